@@ -1,0 +1,5 @@
+"""pounding: seismic pounding analysis of adjacent buildings."""
+
+from __future__ import annotations
+
+__version__ = "0.1.0"

@@ -1,0 +1,1 @@
+"""Contact laws, their calibration to a coefficient of restitution, and stiffness helpers."""
