@@ -1,0 +1,369 @@
+"""Shear buildings: mass, stiffness and damping matrices and modal properties.
+
+A shear building is a stack of lumped floor masses joined by story springs; each floor has one
+horizontal degree of freedom, its displacement relative to the ground [m]. Floors and stories are
+numbered from the ground up: story ``i`` joins floor ``i - 1`` (the ground for ``i = 0``) to floor
+``i``.
+
+Damping is classical (the undamped mode shapes diagonalise it), either Rayleigh damping anchored on
+two modes or modal damping with one ratio per mode.
+
+References
+----------
+.. [1] Chopra, A. K. (2017). *Dynamics of Structures: Theory and Applications to Earthquake
+   Engineering*, 5th ed. Pearson. Ch. 9-10 (shear buildings, modal analysis), Sec. 11.4
+   (classical damping matrices), Sec. 13.2 (modal participation, effective modal mass).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import operator
+
+import numpy as np
+import scipy.linalg
+
+DEFAULT_STORY_HEIGHT = 3.0
+"""Story height [m] used when a building gives none."""
+
+
+def _check_ratio(value: float, field: str, where: str) -> float:
+    try:
+        ratio = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{where}: {field} = {value!r}; must be a number in [0, 1)") from None
+    if not (0.0 <= ratio < 1.0):
+        raise ValueError(f"{where}: {field} = {ratio:g}; damping ratios must be in [0, 1)")
+    return ratio
+
+
+@dataclasses.dataclass(frozen=True)
+class RayleighDamping:
+    """Rayleigh damping C = a0 M + a1 K with the same ratio on two anchor modes.
+
+    Parameters
+    ----------
+    ratio : float
+        Critical damping ratio ξ [-] at both anchor modes, in [0, 1). Typical 0.02-0.05.
+    modes : tuple of int
+        The two anchor modes (1-based, distinct). A building with fewer modes than the highest
+        anchor (e.g. one story with the default ``(1, 2)``) gets modal damping with ``ratio`` on
+        every mode instead; for one story that is c = 2 ξ √(k m).
+    """
+
+    ratio: float = 0.05
+    modes: tuple[int, int] = (1, 2)
+
+    def __post_init__(self) -> None:
+        where = "RayleighDamping"
+        object.__setattr__(self, "ratio", _check_ratio(self.ratio, "ratio", where))
+        try:
+            modes = tuple(operator.index(m) for m in self.modes)
+        except TypeError:
+            modes = ()
+        if len(modes) != 2 or min(modes) < 1 or modes[0] == modes[1]:
+            raise ValueError(
+                f"{where}: modes = {self.modes!r}; modes must be two distinct positive "
+                "integers (1-based mode numbers), e.g. (1, 2)"
+            )
+        object.__setattr__(self, "modes", modes)
+
+
+@dataclasses.dataclass(frozen=True)
+class ModalDamping:
+    """Classical modal damping with a given ratio per mode.
+
+    Parameters
+    ----------
+    ratios : tuple of float
+        Critical damping ratio ξ_j [-] of each mode, mode 1 first, each in [0, 1). A single value
+        applies to every mode; otherwise there must be one per floor of the building.
+    """
+
+    ratios: tuple[float, ...] = (0.05,)
+
+    def __post_init__(self) -> None:
+        ratios = np.atleast_1d(np.asarray(self.ratios, dtype=object)).ravel()
+        if ratios.size == 0:
+            raise ValueError("ModalDamping: ratios is empty; give one ratio or one per mode")
+        checked = tuple(
+            _check_ratio(r, f"ratios[{i}]", "ModalDamping") for i, r in enumerate(ratios)
+        )
+        object.__setattr__(self, "ratios", checked)
+
+
+Damping = RayleighDamping | ModalDamping
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class ModalProperties:
+    """Undamped modes of a building, mode 1 (longest period) first. All arrays are read-only.
+
+    Attributes
+    ----------
+    periods : ndarray, shape (n_modes,)
+        Natural periods T_j = 2π/ω_j [s], descending.
+    circular_frequencies : ndarray, shape (n_modes,)
+        Natural circular frequencies ω_j [rad/s], ascending.
+    shapes : ndarray, shape (n_floors, n_modes)
+        Mode shapes φ_j as columns, mass-normalised (Φᵀ M Φ = I) [kg^-0.5], roof component > 0.
+    participation_factors : ndarray, shape (n_modes,)
+        Γ_j = φ_jᵀ M 1 [kg^0.5] for a uniform ground motion (influence vector of ones).
+    effective_masses : ndarray, shape (n_modes,)
+        Effective modal masses M*_j = Γ_j² [kg]; they sum to the total mass.
+    damping_ratios : ndarray, shape (n_modes,)
+        Critical damping ratio ξ_j [-] each mode gets from the building's damping model.
+    """
+
+    periods: np.ndarray
+    circular_frequencies: np.ndarray
+    shapes: np.ndarray
+    participation_factors: np.ndarray
+    effective_masses: np.ndarray
+    damping_ratios: np.ndarray
+
+
+def _rayleigh(omega_i: float, omega_j: float, ratio: float) -> tuple[float, float]:
+    # Chopra (2017) Sec. 11.4.1: equal ratio at ω_i and ω_j
+    a0 = 2.0 * ratio * omega_i * omega_j / (omega_i + omega_j)
+    a1 = 2.0 * ratio / (omega_i + omega_j)
+    return a0, a1
+
+
+def _readonly(array: np.ndarray) -> np.ndarray:
+    array.setflags(write=False)
+    return array
+
+
+_FIELD_UNITS = {"masses": "kg", "stiffnesses": "N/m", "heights": "m"}
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class ShearBuilding:
+    """A lumped-mass shear building fixed at the base.
+
+    Parameters
+    ----------
+    name : str
+        Label used in results and error messages.
+    masses : array_like, shape (n,)
+        Floor masses [kg], lowest floor first.
+    stiffnesses : array_like, shape (n,)
+        Story (lateral) stiffnesses [N/m], lowest story first.
+    heights : array_like, shape (n,), optional
+        Story heights [m]; default 3.0 m each.
+    damping : RayleighDamping or ModalDamping
+        Damping model; default 5 % Rayleigh damping on modes 1 and 2.
+
+    Notes
+    -----
+    The equation of motion relative to the ground is M ü + C u̇ + K u = −M 1 a_g(t), with
+
+    .. math::
+
+        M = \\mathrm{diag}(m_1, \\dots, m_n), \\qquad
+        K_{ii} = k_i + k_{i+1}, \\quad K_{i,i+1} = K_{i+1,i} = -k_{i+1}
+
+    (k_{n+1} = 0); Chopra (2017) Sec. 9.2.
+    """
+
+    name: str
+    masses: np.ndarray
+    stiffnesses: np.ndarray
+    heights: np.ndarray | None = None
+    damping: Damping = RayleighDamping()
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise ValueError(f"building name = {self.name!r}; name must be a non-empty string")
+        where = f"building {self.name!r}"
+        masses = self._positive_array("masses", self.masses)
+        n = masses.size
+        heights = np.full(n, DEFAULT_STORY_HEIGHT) if self.heights is None else self.heights
+        for field, values in (("stiffnesses", self.stiffnesses), ("heights", heights)):
+            array = self._positive_array(field, values)
+            if array.size != n:
+                raise ValueError(
+                    f"{where}: {field} has {array.size} entries but masses has {n}; "
+                    f"{field} needs one entry per story"
+                )
+            object.__setattr__(self, field, _readonly(array))
+        object.__setattr__(self, "masses", _readonly(masses))
+        if not isinstance(self.damping, RayleighDamping | ModalDamping):
+            raise ValueError(
+                f"{where}: damping = {self.damping!r}; damping must be a RayleighDamping or "
+                "ModalDamping"
+            )
+        if isinstance(self.damping, ModalDamping) and len(self.damping.ratios) not in (1, n):
+            raise ValueError(
+                f"{where}: damping.ratios has {len(self.damping.ratios)} values; give 1 (all "
+                f"modes) or {n} (one per mode)"
+            )
+
+    def _positive_array(self, field: str, values: object) -> np.ndarray:
+        where = f"building {self.name!r}"
+        try:
+            array = np.array(values, dtype=float, copy=True)
+        except (TypeError, ValueError):
+            raise ValueError(f"{where}: {field} = {values!r}; must be numbers") from None
+        if array.ndim != 1 or array.size == 0:
+            raise ValueError(
+                f"{where}: {field} has shape {array.shape}; must be a non-empty 1-D sequence"
+            )
+        bad = np.flatnonzero(~(np.isfinite(array) & (array > 0.0)))
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(
+                f"{where}: {field}[{i}] = {array[i]:g} {_FIELD_UNITS[field]}; "
+                f"{field} must be positive and finite"
+            )
+        return array
+
+    @property
+    def n_floors(self) -> int:
+        """Number of floors (= stories = degrees of freedom)."""
+        return int(self.masses.size)
+
+    @property
+    def elevations(self) -> np.ndarray:
+        """Floor elevations above the ground [m], lowest floor first."""
+        return np.cumsum(self.heights)
+
+    @property
+    def total_mass(self) -> float:
+        """Sum of the floor masses [kg]."""
+        return float(self.masses.sum())
+
+    def mass_matrix(self) -> np.ndarray:
+        """Diagonal lumped mass matrix M [kg], shape (n, n)."""
+        return np.diag(self.masses)
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """Tridiagonal shear-building stiffness matrix K [N/m], shape (n, n) (Chopra Sec. 9.2)."""
+        k = self.stiffnesses
+        above = np.append(k[1:], 0.0)  # stiffness of the story above each floor; none above roof
+        return np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
+
+    def _uses_rayleigh(self) -> bool:
+        return (
+            isinstance(self.damping, RayleighDamping) and max(self.damping.modes) <= self.n_floors
+        )
+
+    def rayleigh_coefficients(self) -> tuple[float, float]:
+        """Rayleigh coefficients (a0 [1/s], a1 [s]) such that C = a0 M + a1 K.
+
+        .. math::
+
+            a_0 = \\xi \\frac{2 \\omega_i \\omega_j}{\\omega_i + \\omega_j}, \\qquad
+            a_1 = \\xi \\frac{2}{\\omega_i + \\omega_j}
+
+        Chopra (2017) Sec. 11.4.1. Raises ValueError when the damping is not Rayleigh damping or
+        the building has fewer modes than the highest anchor mode (modal damping is used then).
+        """
+        where = f"building {self.name!r}"
+        if not isinstance(self.damping, RayleighDamping):
+            raise ValueError(f"{where}: damping is {type(self.damping).__name__}, not Rayleigh")
+        if not self._uses_rayleigh():
+            raise ValueError(
+                f"{where}: damping.modes = {self.damping.modes} but the building has only "
+                f"{self.n_floors} mode(s); it uses modal damping with ratio {self.damping.ratio:g} "
+                "on every mode instead, so there are no Rayleigh coefficients"
+            )
+        omega = self.modal().circular_frequencies
+        i, j = self.damping.modes
+        return _rayleigh(float(omega[i - 1]), float(omega[j - 1]), self.damping.ratio)
+
+    def damping_matrix(self) -> np.ndarray:
+        """Classical damping matrix C [N s/m], shape (n, n).
+
+        Rayleigh damping gives C = a0 M + a1 K. Modal damping (and Rayleigh damping on a building
+        with fewer modes than its highest anchor) gives, with mass-normalised Φ,
+
+        .. math::
+
+            C = M \\Phi \\, \\mathrm{diag}(2 \\xi_j \\omega_j) \\, \\Phi^T M
+
+        Chopra (2017) Sec. 11.4.3.
+        """
+        if self._uses_rayleigh():
+            a0, a1 = self.rayleigh_coefficients()
+            return a0 * self.mass_matrix() + a1 * self.stiffness_matrix()
+        modal = self.modal()
+        mphi = self.masses[:, None] * modal.shapes
+        c = mphi @ np.diag(2.0 * modal.damping_ratios * modal.circular_frequencies) @ mphi.T
+        return 0.5 * (c + c.T)  # exact symmetry, lost to rounding in the triple product
+
+    def modal(self) -> ModalProperties:
+        """Undamped modal properties from the generalised eigenproblem K φ = ω² M φ (cached)."""
+        return self._modal
+
+    @functools.cached_property
+    def _modal(self) -> ModalProperties:
+        eigenvalues, shapes = scipy.linalg.eigh(self.stiffness_matrix(), self.mass_matrix())
+        omega = np.sqrt(eigenvalues)  # ascending; K is positive definite for positive k
+        shapes = shapes * np.where(shapes[-1] < 0.0, -1.0, 1.0)  # roof component > 0
+        gamma = shapes.T @ self.masses  # Γ_j = φ_jᵀ M 1 with Φᵀ M Φ = I
+        if self._uses_rayleigh():
+            a0, a1 = _rayleigh(
+                *(float(omega[m - 1]) for m in self.damping.modes), self.damping.ratio
+            )
+            ratios = a0 / (2.0 * omega) + a1 * omega / 2.0  # Chopra (2017) Sec. 11.4.1
+        elif isinstance(self.damping, RayleighDamping):
+            ratios = np.full(self.n_floors, self.damping.ratio)
+        else:
+            ratios = np.broadcast_to(np.asarray(self.damping.ratios), (self.n_floors,)).copy()
+        return ModalProperties(
+            *(_readonly(a) for a in (2.0 * np.pi / omega, omega, shapes, gamma, gamma**2, ratios))
+        )
+
+    @classmethod
+    def uniform(
+        cls,
+        name: str,
+        n_floors: int,
+        *,
+        period: float,
+        mass: float,
+        height: float = DEFAULT_STORY_HEIGHT,
+        damping: Damping = RayleighDamping(),  # noqa: B008 (frozen, immutable default)
+    ) -> ShearBuilding:
+        """A building with equal floor masses and equal story stiffnesses.
+
+        The story stiffness k is chosen so that the fundamental period is ``period``, from the
+        frequencies of a uniform fixed-free shear building,
+
+        .. math::
+
+            \\omega_j = 2 \\sqrt{k/m} \\, \\sin\\frac{(2j - 1)\\pi}{2(2n + 1)}, \\quad j = 1..n
+
+        Parameters
+        ----------
+        name : str
+            Building label.
+        n_floors : int
+            Number of floors n >= 1.
+        period : float
+            Fundamental period T_1 [s] > 0.
+        mass : float
+            Mass of each floor m [kg] > 0.
+        height : float
+            Height of each story [m] > 0.
+        damping : RayleighDamping or ModalDamping
+            Damping model.
+        """
+        where = f"building {name!r}"
+        if isinstance(n_floors, bool) or not isinstance(n_floors, int | np.integer) or n_floors < 1:
+            raise ValueError(f"{where}: n_floors = {n_floors!r}; must be an integer >= 1")
+        period = float(period)
+        if not (math.isfinite(period) and period > 0.0):
+            raise ValueError(f"{where}: period = {period:g} s; must be positive and finite")
+        mass = float(mass)
+        if not (math.isfinite(mass) and mass > 0.0):
+            raise ValueError(f"{where}: mass = {mass:g} kg; must be positive and finite")
+        omega1 = 2.0 * math.pi / period
+        s = math.sin(math.pi / (2.0 * (2 * n_floors + 1)))
+        k = mass * (omega1 / (2.0 * s)) ** 2
+        n = int(n_floors)
+        return cls(name, np.full(n, mass), np.full(n, k), np.full(n, height), damping)
