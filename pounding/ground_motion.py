@@ -44,7 +44,9 @@ class GroundMotion:
     def __post_init__(self) -> None:
         acc = np.array(self.acceleration, dtype=float, copy=True)
         if acc.ndim != 1:
-            raise ValueError(f"ground motion {self.name!r}: acceleration must be 1-D, got {acc.ndim}-D")
+            raise ValueError(
+                f"ground motion {self.name!r}: acceleration must be 1-D, got {acc.ndim}-D"
+            )
         if acc.size < 2:
             raise ValueError(f"ground motion {self.name!r}: acceleration needs >= 2 samples")
         bad = np.flatnonzero(~np.isfinite(acc))
@@ -55,7 +57,9 @@ class GroundMotion:
             )
         dt = float(self.dt)
         if not (math.isfinite(dt) and dt > 0.0):
-            raise ValueError(f"ground motion {self.name!r}: dt must be a positive number [s], got {dt}")
+            raise ValueError(
+                f"ground motion {self.name!r}: dt must be a positive number [s], got {dt}"
+            )
         acc.setflags(write=False)
         object.__setattr__(self, "acceleration", acc)
         object.__setattr__(self, "dt", dt)
@@ -89,7 +93,9 @@ class GroundMotion:
         """A copy with some fields changed (the record itself is immutable)."""
         return dataclasses.replace(self, **changes)
 
-    def with_step(self, step: str, acceleration: np.ndarray, dt: float | None = None) -> GroundMotion:
+    def with_step(
+        self, step: str, acceleration: np.ndarray, dt: float | None = None
+    ) -> GroundMotion:
         """A copy with new samples and ``step`` appended to ``metadata["processing"]``."""
         meta = dict(self.metadata)
         meta["processing"] = [*meta.get("processing", []), step]

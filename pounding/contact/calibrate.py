@@ -226,7 +226,7 @@ def _solve_damping(
     for _ in range(60):
         if residual(hi) < 0.0:
             break
-        lo, hi = hi, (hi * 2.0 if not law.is_bilinear else 0.5 * (hi + 1.0))
+        hi = hi * 2.0 if not law.is_bilinear else 0.5 * (hi + 1.0)
     else:
         raise ValueError(
             f"law {name!r}: no damping gives an effective restitution as low as e = {e}"
