@@ -58,3 +58,382 @@ def contact_eval(law, d, dd, v0, d_prev, f_prev, p):
 def contact_stored_energy(law, d, f, p):
     """Recoverable energy [J] of a gap element (see pounding.contact.laws.stored_energy)."""
     return _stored(law == BILINEAR_ID, d, f, p)
+
+
+# --------------------------------------------------------------------------------------------------
+# Newmark / HHT-alpha time loop
+# --------------------------------------------------------------------------------------------------
+import numpy as np  # noqa: E402
+
+#: Layout of the float row of the impact log.
+IMP_START, IMP_END, IMP_V0, IMP_VEND, IMP_FMAX, IMP_DMAX, IMP_IMPULSE = range(7)
+#: Layout of the integer counters array.
+CNT_IMPACTS, CNT_SUBSTEPS, CNT_NEWTON, CNT_LOCATED, CNT_STATUS, CNT_HALVINGS = range(6)
+STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 0, 1, 2
+
+
+@jit
+def ground_at(ag, ag_dt, t):
+    """Ground acceleration at t, linear between samples, 0 after the record."""
+    x = t / ag_dt
+    i = int(x)
+    if i >= ag.size - 1:
+        return ag[-1] if x <= ag.size - 1 + 1e-9 else 0.0
+    if i < 0:
+        return 0.0
+    w = x - i
+    return (1.0 - w) * ag[i] + w * ag[i + 1]
+
+
+@jit
+def hermite_root(d0, v0, d1, v1, h):
+    """θ in [0, 1] where the cubic Hermite interpolant of (d0, v0) -> (d1, v1) over h first crosses 0,
+    and its derivative there. Assumes d0 <= 0 < d1 or d0 > 0 >= d1 (a sign change)."""
+    lo, hi = 0.0, 1.0
+    f_lo = d0
+    th = 0.5
+    for _ in range(60):
+        th = 0.5 * (lo + hi)
+        t2 = th * th
+        t3 = t2 * th
+        f = (2 * t3 - 3 * t2 + 1) * d0 + (t3 - 2 * t2 + th) * h * v0 + (-2 * t3 + 3 * t2) * d1
+        f += (t3 - t2) * h * v1
+        if (f > 0.0) == (f_lo > 0.0):
+            lo = th
+            f_lo = f
+        else:
+            hi = th
+        if hi - lo < 1e-13:
+            break
+    th = 0.5 * (lo + hi)
+    t2 = th * th
+    dv = (6 * t2 - 6 * th) * d0 / h + (3 * t2 - 4 * th + 1) * v0 + (-6 * t2 + 6 * th) * d1 / h
+    dv += (3 * t2 - 2 * th) * v1
+    return th, dv
+
+
+@jit
+def _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
+                   d, dd, f, kd, cd):  # fmt: skip
+    """δ, δ̇ (the system's sign arrays), force and tangents of every element at (u1, v1)."""
+    active = False
+    for c in range(el_gap.size):
+        a = el_dof[c, 0]
+        b = el_dof[c, 1]
+        dc = -el_gap[c]
+        vc = 0.0
+        if a >= 0:
+            dc += el_sign[c, 0] * u1[a]
+            vc += el_sign[c, 0] * v1[a]
+        if b >= 0:
+            dc += el_sign[c, 1] * u1[b]
+            vc += el_sign[c, 1] * v1[b]
+        d[c] = dc
+        dd[c] = vc
+        # before the onset is registered, the approach speed itself stands in for v0
+        v0 = el_v0[c] if el_in[c] else max(vc, 0.0)
+        fc, kc, cc = contact_eval(el_law[c], dc, vc, v0, el_hd[c], el_hf[c], el_params[c])
+        f[c] = fc
+        kd[c] = kc
+        cd[c] = cc
+        if fc != 0.0 or kc != 0.0:
+            active = True
+    return active
+
+
+@jit
+def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
+            el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
+            tol, max_iter, J_base, J_inv, h_base,
+            u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J):  # fmt: skip
+    """One Newmark/HHT step of length hs from (u, v, a); fills the *1 arrays. Returns (ok, iterations)."""
+    n = u.size
+    n_el = el_gap.size
+    c0 = 1.0 / (beta * hs * hs)
+    c1 = gamma / (beta * hs)
+    c2 = 1.0 / (beta * hs)
+    c3 = 0.5 / beta - 1.0
+    c4 = gamma / beta - 1.0
+    c5 = hs * (0.5 * gamma / beta - 1.0)
+    w = 1.0 + alpha
+    g_eff = w * ground_at(ag, ag_dt, t + hs) - alpha * ground_at(ag, ag_dt, t)
+    same_h = abs(hs - h_base) <= 1e-12 * h_base
+    # the alpha-weighted old internal forces: -alpha (C v + K u + B^T f0)
+    old = -alpha * (C @ v + K @ u)
+    if alpha != 0.0:
+        for c in range(n_el):
+            if f0[c] != 0.0:
+                for s in range(2):
+                    i = el_dof[c, s]
+                    if i >= 0:
+                        old[i] -= alpha * el_sign[c, s] * f0[c]
+    for i in range(n):
+        u1[i] = u[i]
+    small = False
+    prev_active = True
+    u_scale = max(np.max(np.abs(u)), 1e-3)
+    for it in range(max_iter + 1):
+        for i in range(n):
+            du = u1[i] - u[i]
+            a1[i] = c0 * du - c2 * v[i] - c3 * a[i]
+            v1[i] = c1 * du - c4 * v[i] - c5 * a[i]
+        active = _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
+                                el_hd, el_hf, d1, dd1, f1, kd1, cd1)  # fmt: skip
+        if it > 0 and (small or (not active and not prev_active)):
+            return True, it
+        if it == max_iter:
+            return False, it
+        prev_active = active
+        # residual of the weighted equation of motion
+        Ru = M @ a1 + w * (C @ v1 + K @ u1) + old + Mi * g_eff
+        for i in range(n):
+            R[i] = Ru[i]
+        for c in range(n_el):
+            if f1[c] != 0.0:
+                for s in range(2):
+                    i = el_dof[c, s]
+                    if i >= 0:
+                        R[i] += w * el_sign[c, s] * f1[c]
+        if not active and same_h:
+            step = -(J_inv @ R)
+        else:
+            if same_h:
+                J[:, :] = J_base
+            else:
+                J[:, :] = c0 * M + w * (c1 * C + K)
+            for c in range(n_el):
+                kc = w * (kd1[c] + c1 * cd1[c])
+                if kc != 0.0:
+                    for s in range(2):
+                        i = el_dof[c, s]
+                        if i < 0:
+                            continue
+                        for r in range(2):
+                            j = el_dof[c, r]
+                            if j >= 0:
+                                J[i, j] += kc * el_sign[c, s] * el_sign[c, r]
+            step = -np.linalg.solve(J, R)
+        small = np.max(np.abs(step)) <= tol * max(u_scale, np.max(np.abs(u1)))
+        for i in range(n):
+            u1[i] += step[i]
+        if not np.all(np.isfinite(u1)):
+            return False, it
+    return False, max_iter
+
+
+@jit
+def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, alpha,
+                el_dof, el_sign, el_gap, el_law, el_params, below,
+                tol, max_iter, max_halvings, locate_onset,
+                out_u, out_v, out_a, out_ag, out_d, out_f, out_e,
+                peak_u, peak_drift, peak_aabs, peak_f, peak_d,
+                imp_el, imp_val, counters):  # fmt: skip
+    """Integrate from rest over n_steps base steps of h; outputs every out_every steps (row 0 = t 0).
+
+    Returns the final time reached. ``counters[CNT_STATUS]`` tells success or the failure kind.
+    """
+    n = M.shape[0]
+    n_el = el_gap.size
+    Mi = M @ iota
+    u = np.zeros(n)
+    v = np.zeros(n)
+    a = -iota * ground_at(ag, ag_dt, 0.0)
+    u1 = np.zeros(n)
+    v1 = np.zeros(n)
+    a1 = np.zeros(n)
+    R = np.zeros(n)
+    J = np.zeros((n, n))
+    d0 = np.zeros(n_el)
+    dd0 = np.zeros(n_el)
+    f0 = np.zeros(n_el)
+    d1 = np.zeros(n_el)
+    dd1 = np.zeros(n_el)
+    f1 = np.zeros(n_el)
+    kd1 = np.zeros(n_el)
+    cd1 = np.zeros(n_el)
+    el_in = np.zeros(n_el, dtype=np.bool_)
+    el_v0 = np.zeros(n_el)
+    el_hd = np.zeros(n_el)
+    el_hf = np.zeros(n_el)
+    el_imp = -np.ones(n_el, dtype=np.int64)
+    closing = np.zeros(n_el, dtype=np.bool_)
+    theta = np.zeros(n_el)
+    w = 1.0 + alpha
+    J_base = (1.0 / (beta * h * h)) * M + w * ((gamma / (beta * h)) * C + K)
+    J_inv = np.linalg.inv(J_base)
+    # initial gaps (a contact may start closed when a gap is 0)
+    for c in range(n_el):
+        d0[c] = -el_gap[c]
+    e_in = 0.0
+    e_damp = 0.0
+    w_c = 0.0
+    p_in0 = 0.0
+    p_d0 = 0.0
+    p_c0 = 0.0
+    cap = imp_el.size
+    t = 0.0
+    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, M, K, el_law, el_params,
+           out_u, out_v, out_a, out_ag, out_d, out_f, out_e)  # fmt: skip
+    for k in range(n_steps):
+        t = k * h
+        t_next = (k + 1) * h
+        hs_try = h
+        halvings = 0
+        while t < t_next - 1e-9 * h:
+            hs = min(hs_try, t_next - t)
+            ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
+                              el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
+                              tol, max_iter, J_base, J_inv, h,
+                              u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
+            counters[CNT_NEWTON] += its
+            if not ok:
+                halvings += 1
+                counters[CNT_HALVINGS] += 1
+                if halvings > max_halvings:
+                    counters[CNT_STATUS] = STATUS_NO_CONVERGENCE
+                    return t
+                hs_try = 0.5 * hs
+                continue
+            for c in range(n_el):
+                closing[c] = False
+            if locate_onset:
+                # the earliest gap closure inside the step: shorten the step to end there
+                th_min = 1.0
+                for c in range(n_el):
+                    if not el_in[c] and d0[c] <= 0.0 < d1[c]:
+                        th, _ = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
+                        theta[c] = th
+                        th_min = min(th_min, th)
+                    else:
+                        theta[c] = 2.0
+                if th_min < 1.0 - 1e-9 and th_min * hs > 1e-9 * h:
+                    for c in range(n_el):
+                        closing[c] = theta[c] <= th_min * (1.0 + 1e-9)
+                    hs = th_min * hs
+                    ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
+                                      el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
+                                      el_hd, el_hf, tol, max_iter, J_base, J_inv, h,
+                                      u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
+                    counters[CNT_NEWTON] += its
+                    counters[CNT_LOCATED] += 1
+                    if not ok:
+                        halvings += 1
+                        counters[CNT_HALVINGS] += 1
+                        if halvings > max_halvings:
+                            counters[CNT_STATUS] = STATUS_NO_CONVERGENCE
+                            return t
+                        hs_try = 0.5 * hs
+                        continue
+            t1 = t + hs
+            counters[CNT_SUBSTEPS] += 1
+            # energy: trapezoidal rule on the powers
+            g1 = ground_at(ag, ag_dt, t1)
+            p_in1 = -(v1 @ Mi) * g1
+            p_d1 = v1 @ (C @ v1)
+            p_c1 = 0.0
+            for c in range(n_el):
+                p_c1 += f1[c] * dd1[c]
+            e_in += 0.5 * hs * (p_in0 + p_in1)
+            e_damp += 0.5 * hs * (p_d0 + p_d1)
+            w_c += 0.5 * hs * (p_c0 + p_c1)
+            p_in0 = p_in1
+            p_d0 = p_d1
+            p_c0 = p_c1
+            # impacts: onsets, running maxima, separations
+            for c in range(n_el):
+                if not el_in[c] and (closing[c] or d1[c] > 0.0):
+                    if closing[c]:
+                        # the step was shortened to end at this closure
+                        vc = dd1[c]
+                        t_on = t1
+                    else:
+                        th, vc = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
+                        t_on = t + th * hs
+                    el_in[c] = True
+                    el_v0[c] = max(vc, 0.0)
+                    el_hd[c] = 0.0
+                    el_hf[c] = 0.0
+                    i_imp = counters[CNT_IMPACTS]
+                    if i_imp >= cap:
+                        counters[CNT_STATUS] = STATUS_IMPACT_LOG_FULL
+                        return t
+                    counters[CNT_IMPACTS] += 1
+                    el_imp[c] = i_imp
+                    imp_el[i_imp] = c
+                    imp_val[i_imp, IMP_START] = t_on
+                    imp_val[i_imp, IMP_END] = np.nan
+                    imp_val[i_imp, IMP_V0] = el_v0[c]
+                    imp_val[i_imp, IMP_VEND] = np.nan
+                    imp_val[i_imp, IMP_FMAX] = 0.0
+                    imp_val[i_imp, IMP_DMAX] = 0.0
+                    imp_val[i_imp, IMP_IMPULSE] = 0.0
+                if el_in[c]:
+                    i_imp = el_imp[c]
+                    imp_val[i_imp, IMP_FMAX] = max(imp_val[i_imp, IMP_FMAX], f1[c])
+                    imp_val[i_imp, IMP_DMAX] = max(imp_val[i_imp, IMP_DMAX], d1[c])
+                    imp_val[i_imp, IMP_IMPULSE] += 0.5 * hs * (f0[c] + f1[c])
+                    # separation; a grazing closure that never penetrated ends once it recedes
+                    if d1[c] <= 0.0 and (imp_val[i_imp, IMP_DMAX] > 0.0 or dd1[c] < 0.0):
+                        if d0[c] > 0.0:
+                            th, vc = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
+                            imp_val[i_imp, IMP_END] = t + th * hs
+                        else:
+                            vc = dd1[c]
+                            imp_val[i_imp, IMP_END] = t1
+                        imp_val[i_imp, IMP_VEND] = vc
+                        el_in[c] = False
+                        el_imp[c] = -1
+                        el_hd[c] = 0.0
+                        el_hf[c] = 0.0
+                    else:
+                        el_hd[c] = d1[c]
+                        el_hf[c] = f1[c]
+            # accept
+            for i in range(n):
+                u[i] = u1[i]
+                v[i] = v1[i]
+                a[i] = a1[i]
+                au = abs(u1[i])
+                if au > peak_u[i]:
+                    peak_u[i] = au
+                dr = abs(u1[i] - (u1[below[i]] if below[i] >= 0 else 0.0))
+                if dr > peak_drift[i]:
+                    peak_drift[i] = dr
+                aa = abs(a1[i] + iota[i] * g1)
+                if aa > peak_aabs[i]:
+                    peak_aabs[i] = aa
+            for c in range(n_el):
+                d0[c] = d1[c]
+                dd0[c] = dd1[c]
+                f0[c] = f1[c]
+                if f1[c] > peak_f[c]:
+                    peak_f[c] = f1[c]
+                if d1[c] > peak_d[c]:
+                    peak_d[c] = d1[c]
+            t = t1
+        if (k + 1) % out_every == 0:
+            _store((k + 1) // out_every, t_next, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, M, K,
+                   el_law, el_params, out_u, out_v, out_a, out_ag, out_d, out_f, out_e)  # fmt: skip
+    return t
+
+
+@jit
+def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, M, K, el_law, el_params,
+           out_u, out_v, out_a, out_ag, out_d, out_f, out_e):  # fmt: skip
+    if row >= out_u.shape[0]:
+        return
+    out_u[row] = u
+    out_v[row] = v
+    out_a[row] = a
+    out_ag[row] = ground_at(ag, ag_dt, t)
+    out_d[row] = d
+    out_f[row] = f
+    stored = 0.0
+    for c in range(d.size):
+        stored += contact_stored_energy(el_law[c], d[c], f[c], el_params[c])
+    out_e[row, 0] = e_in
+    out_e[row, 1] = 0.5 * (v @ (M @ v))
+    out_e[row, 2] = 0.5 * (u @ (K @ u))
+    out_e[row, 3] = e_damp
+    out_e[row, 4] = w_c - stored
+    out_e[row, 5] = stored
