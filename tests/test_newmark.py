@@ -1,0 +1,156 @@
+"""The compiled Newmark/HHT loop against closed-form structural-dynamics and impact solutions."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pounding.contact.calibrate import effective_restitution
+from pounding.contact.laws import LAWS_BY_ID
+from pounding.ground_motion import GroundMotion, harmonic, sine_pulse
+from pounding.integrators.base import ConvergenceError
+from pounding.integrators.newmark import HHT, get_scheme, integrate_newmark
+from pounding.simulate import simulate
+from pounding.structure import ModalDamping, ShearBuilding
+from pounding.system import Contact, assemble
+
+
+def _sdof(period: float, mass: float = 1.0e5, xi: float = 0.05, name: str = "A") -> ShearBuilding:
+    return ShearBuilding.uniform(name, 1, period=period, mass=mass, damping=ModalDamping((xi,)))
+
+
+@pytest.mark.parametrize("method", ["newmark", "linear_acceleration", "hht"])
+def test_chopra_harmonic_steady_state_amplitude(method):
+    # Chopra, Dynamics of Structures, §3.2: steady-state amplitude of u'' + 2ξωu' + ω²u = -A sin Ωt
+    # is A / (ω² sqrt((1 - r²)² + (2ξr)²)), r = Ω/ω.
+    T, xi, A, Tg = 0.5, 0.05, 1.0, 0.6
+    system = assemble([_sdof(T, xi=xi)])
+    gm = harmonic(amplitude=A, period=Tg, duration=25.0, dt=0.002)
+    ds = simulate(system, gm, method=method, dt=T / 400, output_dt=0.002, alpha=-0.02)
+    w, r = 2 * math.pi / T, T / Tg
+    expected = A / (w**2 * math.sqrt((1 - r**2) ** 2 + (2 * xi * r) ** 2))
+    u = ds["displacement"].sel(building="A", floor=1)
+    steady = float(np.abs(u.sel(time=slice(20.0, 25.0))).max())
+    tol = 3e-3 if method != "hht" else 1e-2  # HHT damps numerically; α = −0.02 is mild
+    assert steady == pytest.approx(expected, rel=tol)
+
+
+def test_free_vibration_after_pulse_matches_closed_form():
+    # After the pulse (t > Tp) the SDOF is in damped free vibration (Chopra §2.2):
+    # u(τ) = e^{-ξωτ} (u_p cos ω_D τ + (v_p + ξω u_p)/ω_D sin ω_D τ).
+    T, xi, Tp = 0.4, 0.03, 0.3
+    system = assemble([_sdof(T, xi=xi)])
+    gm = sine_pulse(amplitude=2.0, period=Tp, duration=3.0, dt=0.001)
+    ds = simulate(system, gm, dt=2.5e-4, output_dt=0.001)
+    u = ds["displacement"].sel(building="A", floor=1)
+    v = ds["velocity"].sel(building="A", floor=1)
+    tp = 0.4  # a grid time after the pulse
+    up, vp = float(u.sel(time=tp)), float(v.sel(time=tp))
+    w = 2 * math.pi / T
+    wd = w * math.sqrt(1 - xi**2)
+    tau = ds["time"].values[ds["time"].values >= tp] - tp
+    exact = np.exp(-xi * w * tau) * (
+        up * np.cos(wd * tau) + (vp + xi * w * up) / wd * np.sin(wd * tau)
+    )
+    got = u.sel(time=slice(tp, None)).values
+    assert np.max(np.abs(got - exact)) < 2e-3 * np.max(np.abs(exact))
+
+
+def _wall_case(law: str, *, period: float = 2.0, xi: float = 0.0, gap: float = 0.01, **params):
+    building = _sdof(period, xi=xi)
+    contact = Contact("A", "wall", gap, law, floors=[1], **params)
+    return assemble([building], [contact])
+
+
+def test_linear_impact_of_undamped_sdof_on_wall_duration_closed_form():
+    # During contact the SDOF (k_b) and the impact spring (k) act together about the shifted
+    # equilibrium u_eq = k g/(k_b + k): u - u_eq = A sin(ωt + φ), ω = sqrt((k_b + k)/m).
+    # Contact starts at u = g with speed v0 and ends when u = g again: t_c = (π − 2 atan(ω Δ / v0))/ω,
+    # Δ = g − u_eq, with rebound speed v0 (elastic).
+    k, gap, m = 2.0e8, 0.01, 1.0e5
+    system = _wall_case("linear", gap=gap, k=k)
+    gm = sine_pulse(amplitude=3.0, period=0.5, duration=1.5, dt=0.001)
+    ds = simulate(system, gm, dt=1e-4, output_dt=0.001)
+    imp = ds.pounding.impacts()
+    first = imp.iloc[0]
+    assert first["start"] > 0.5  # the pulse is over: free motion into the wall
+    kb = float(system.stiffness[0, 0])
+    w = math.sqrt((kb + k) / m)
+    delta = gap - k * gap / (kb + k)
+    tc = (math.pi - 2 * math.atan(w * delta / first["v0"])) / w
+    assert first["end"] - first["start"] == pytest.approx(tc, rel=1e-3)
+    assert first["restitution"] == pytest.approx(1.0, abs=2e-3)
+
+
+def test_onset_time_located_inside_the_step():
+    # Free vibration from the pulse's end state reaches the gap at a time found by a root solve of
+    # the closed form; with dt = 2 ms the located onset must match to far better than dt.
+    T, gap = 2.0, 0.01
+    system = _wall_case("linear", period=T, gap=gap, k=2.0e8)
+    gm = sine_pulse(amplitude=3.0, period=0.5, duration=1.5, dt=0.001)
+    coarse = simulate(system, gm, dt=2e-3, output_dt=0.01, steps_per_contact=1)
+    fine = simulate(system, gm, dt=2e-5, output_dt=0.01)
+    t_fine = fine.pounding.impacts().iloc[0]["start"]
+    t_coarse = coarse.pounding.impacts().iloc[0]["start"]
+    assert abs(t_coarse - t_fine) < 2e-5  # without location the error is up to one step (2e-3 s)
+
+
+@pytest.mark.parametrize("law", [law.name for law in LAWS_BY_ID])
+def test_single_impact_matches_independent_free_impact(law):
+    # A very flexible undamped SDOF (T = 20 s) hits a rigid wall after the pulse; its own spring is
+    # ~1e-5 of the contact stiffness, so the impact is the free impact that calibrate.py integrates
+    # independently with DOP853 at rtol 1e-11: duration, max penetration, peak force and e agree.
+    params = {"k": 2.0e9 if law in ("linear", "kelvin", "kelvin_approach") else 2.75e9, "e": 0.6}
+    if law in ("linear", "hertz"):
+        params.pop("e")
+    if law == "bilinear":
+        params["delta_m"] = 0.004
+    system = _wall_case(law, period=20.0, gap=0.05, **params)
+    # the ground kicks left, so the building moves right (relative) into the wall after the kick
+    gm = GroundMotion(np.r_[0.0, -2.0, 0.0], 0.1, name="kick")
+    ds = simulate(system, gm, dt=2e-5, output_dt=1e-3, duration=1.0)
+    first = ds.pounding.impacts().iloc[0]
+    ref = effective_restitution(law, mass=1.0e5, v0=first["v0"], **params)
+    assert first["end"] - first["start"] == pytest.approx(ref.contact_duration, rel=5e-3)
+    assert first["max_penetration"] == pytest.approx(ref.max_penetration, rel=5e-3)
+    assert first["peak_force"] == pytest.approx(ref.peak_force, rel=5e-3)
+    assert first["restitution"] == pytest.approx(ref.e_effective, abs=5e-3)
+
+
+def test_hht_with_alpha_zero_is_newmark():
+    system = _wall_case("hunt_crossley", period=0.5, xi=0.05, k=2.75e9, e=0.7)
+    gm = sine_pulse(amplitude=4.0, period=0.5, duration=2.0, dt=0.002)
+    a = integrate_newmark(system, gm, dt=5e-4, output_every=4, n_steps=4000)
+    b = integrate_newmark(system, gm, dt=5e-4, output_every=4, n_steps=4000, scheme=HHT(alpha=0.0))
+    np.testing.assert_allclose(a.displacement, b.displacement, rtol=0, atol=1e-12)
+    assert get_scheme("hht", alpha=-0.1).gamma == pytest.approx(0.6)
+
+
+def test_hht_rejects_alpha_out_of_range():
+    with pytest.raises(ValueError, match="alpha"):
+        HHT(alpha=-0.5)
+    with pytest.raises(ValueError, match="allowed"):
+        get_scheme("leapfrog")
+
+
+def test_newton_failure_raises_convergence_error_with_time():
+    system = _wall_case("hertz", period=0.5, xi=0.05, gap=0.001, k=1e12)
+    gm = sine_pulse(amplitude=5.0, period=0.5, duration=1.0, dt=0.01)
+    with pytest.raises(ConvergenceError, match=r"t = "):
+        integrate_newmark(
+            system, gm, dt=0.01, output_every=1, n_steps=100, max_iter=1, max_halvings=0
+        )
+
+
+def test_energy_balance_closes_for_pounding_pair():
+    a = ShearBuilding.uniform("A", 3, period=0.3, mass=3e5)
+    b = ShearBuilding.uniform("B", 8, period=1.0, mass=3e5)
+    system = assemble([a, b], [Contact("A", "B", 0.02, "kelvin", k=5e9, e=0.6)])
+    gm = sine_pulse(amplitude=0.4 * 9.81, period=0.8, duration=6.0, dt=0.005)
+    ds = simulate(system, gm)
+    assert int(ds["impact_count"].sum()) > 0
+    assert ds.attrs["energy_balance_error"] < 1e-2
+    e = ds["energy"].isel(time=-1)
+    assert float(e.sel(term="contact_dissipated")) > 0.0
