@@ -65,7 +65,7 @@ ATTRS: dict[str, dict[str, str]] = {
     "peak_contact_force": {"units": "N", "long_name": "peak contact force"},
     "peak_penetration": {"units": "m", "long_name": "peak penetration"},
     "impact_count": {"units": "1", "long_name": "number of impacts"},
-    "impact_contact": {"long_name": "gap element of the impact"},
+    "impact_contact": {"units": "1", "long_name": "gap element of the impact"},
     "impact_start": {"units": "s", "long_name": "impact start time"},
     "impact_end": {"units": "s", "long_name": "impact end time"},
     "impact_v0": {"units": "m/s", "long_name": "approach speed at impact onset"},

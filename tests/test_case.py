@@ -1,0 +1,90 @@
+"""Case files: the examples load and bad input is named before any integration."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+
+from pounding.case import CaseError, case_from_dict, load_case
+from pounding.units import G
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+BASE = {
+    "title": "t",
+    "building": [
+        {"name": "A", "masses": [3e5, 3e5], "stiffnesses": [4e8, 4e8]},
+        {"name": "B", "n_floors": 3, "period": 0.6, "mass": 3e5},
+    ],
+    "contact": [{"left": "A", "right": "B", "gap": 0.02, "law": "hertz", "k": 2.75e9}],
+    "ground_motion": {"type": "sine_pulse", "amplitude": 0.3, "units": "g", "period": 0.5},
+    "analysis": {"method": "newmark", "output_dt": 0.01},
+}
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
+def test_examples_load(path):
+    case = load_case(path)
+    assert case.system.n_dof >= 1
+    assert len(case.system.elements) >= 1
+
+
+def test_case_builds_system_and_converts_units():
+    case = case_from_dict(BASE)
+    assert case.system.building_names == ("A", "B")
+    assert len(case.system.elements) == 2  # floors 1 and 2 are at common elevations
+    assert case.ground_motion.pga == pytest.approx(0.3 * G, rel=1e-3)
+
+
+def _broken(path: list, value) -> dict:
+    data = copy.deepcopy(BASE)
+    target = data
+    for key in path[:-1]:
+        target = target[key]
+    if value is KeyError:
+        del target[path[-1]]
+    else:
+        target[path[-1]] = value
+    return data
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "message"),
+    [
+        (["contact", 0, "law"], "hertzz", r"unknown contact law 'hertzz'; allowed: .*flores"),
+        (["building", 0, "masses"], [3e5, -1.0], r"masses\[1\]"),
+        (["building", 0, "stiffnesses"], [4e8, float("nan")], r"stiffnesses\[1\]"),
+        (["building", 0, "masses"], KeyError, r"building\[0\]\.masses is required"),
+        (["contact", 0, "gap"], -0.1, r"gap = -0.1"),
+        (["contact", 0, "k"], KeyError, r"k \(contact stiffness"),
+        (["contact", 0, "right"], "C", r"unknown building 'C'"),
+        (["contact", 0, "colour"], "red", r"contact\[0\]: unknown key\(s\) colour"),
+        (["analysis", "method"], "euler", r"analysis.method = 'euler'; allowed: .*newmark.*ivp"),
+        (["analysis", "dt"], -1.0, r"analysis.dt = -1.0"),
+        (["ground_motion", "type"], "square", r"ground_motion.type = 'square'; allowed: harmonic"),
+        (["ground_motion", "units"], "furlongs", r"unknown acceleration unit 'furlongs'"),
+        (["building", 1, "damping"], {"ratio": 1.2}, r"ratio"),
+    ],
+)
+def test_bad_case_names_the_key(path, value, message):
+    with pytest.raises(CaseError, match=message):
+        case_from_dict(_broken(path, value))
+
+
+def test_contact_between_non_neighbours_is_rejected():
+    data = copy.deepcopy(BASE)
+    data["building"].append({"name": "C", "n_floors": 2, "period": 0.4, "mass": 3e5})
+    data["contact"] = [{"left": "A", "right": "C", "gap": 0.02, "law": "linear", "k": 1e9}]
+    with pytest.raises(CaseError, match="neighbours"):
+        case_from_dict(data)
+
+
+def test_missing_and_invalid_files(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        load_case(tmp_path / "nope.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("title = \n")
+    with pytest.raises(CaseError, match="not valid TOML"):
+        load_case(bad)

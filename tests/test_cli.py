@@ -1,0 +1,88 @@
+"""The analysis CLI verbs: output, exit codes, one-line errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from pounding.cli import app
+from pounding.results import open_result
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+runner = CliRunner()
+
+
+def test_run_prints_summary_and_writes_dataset(tmp_path):
+    out = tmp_path / "r.nc"
+    res = runner.invoke(app, ["run", str(EXAMPLES / "two_sdof.toml"), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    for text in ("T1 [s]", "hunt_crossley", "impacts", "energy balance error", "written"):
+        assert text in res.output
+    ds = open_result(out)
+    assert int(ds["impact_count"].sum()) > 0
+
+
+def test_run_bad_case_is_one_line_exit_2(tmp_path):
+    case = tmp_path / "bad.toml"
+    case.write_text(
+        (EXAMPLES / "two_sdof.toml")
+        .read_text()
+        .replace('law = "hunt_crossley"', 'law = "huntcrossley"')
+    )
+    res = runner.invoke(app, ["run", str(case)])
+    assert res.exit_code == 2
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "unknown contact law 'huntcrossley'" in lines[0]
+    assert "Traceback" not in res.output
+
+
+def test_run_missing_file_exit_2(tmp_path):
+    res = runner.invoke(app, ["run", str(tmp_path / "none.toml")])
+    assert res.exit_code == 2
+    assert "no case file" in res.output
+
+
+def test_laws_lists_every_law_and_alias():
+    res = runner.invoke(app, ["laws"])
+    assert res.exit_code == 0
+    for name in ("linear", "kelvin_approach", "hertz_kelvin", "hertzdamp", "ye", "impact_material"):
+        assert name in res.output
+
+
+def test_laws_restitution_json_keys_match_hertz_closed_form():
+    # undamped Hertz: δ_max = (5 m v0²/(4k))^(2/5), t_c = 2.943275 δ_max/v0 (reference §3)
+    m, k, v0 = 1.5e5, 2.75e9, 0.5
+    res = runner.invoke(
+        app,
+        [
+            "laws",
+            "restitution",
+            "--law",
+            "hertz",
+            "--k",
+            str(k),
+            "--mass",
+            str(m),
+            "--v0",
+            str(v0),
+            "--json",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    assert set(out) == {"e_effective", "max_penetration", "peak_force", "contact_duration"}
+    d_max = (5 * m * v0**2 / (4 * k)) ** 0.4
+    assert out["max_penetration"] == pytest.approx(d_max, rel=1e-4)
+    assert out["contact_duration"] == pytest.approx(2.943275 * d_max / v0, rel=1e-3)
+    assert out["e_effective"] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_laws_restitution_missing_e_is_exit_2():
+    res = runner.invoke(
+        app, ["laws", "restitution", "--law", "kelvin", "--k", "1e9", "--mass", "1e5", "--v0", "1"]
+    )
+    assert res.exit_code == 2
+    assert "needs e" in res.output
