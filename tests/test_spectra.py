@@ -138,7 +138,8 @@ def test_scipy_filter_path_equals_compiled_path(random_record):
 
 
 def test_zero_period_limit_is_pga(random_record):
-    sa = response_spectrum(random_record, [1e-3], 0.05).Sa.item()
+    # a rigid oscillator moves with the ground (overshoot at the record's kinks ~ slope jump / ω)
+    sa = response_spectrum(random_record, [5e-5], 0.05).Sa.item()
     assert sa == pytest.approx(random_record.pga, rel=2e-3)
 
 
