@@ -114,8 +114,11 @@ def hermite_root(d0, v0, d1, v1, h):
 
 @jit
 def _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
-                   d, dd, f, kd, cd):  # fmt: skip
-    """δ, δ̇ (the system's sign arrays), force and tangents of every element at (u1, v1)."""
+                   el_off, d, dd, f, kd, cd):  # fmt: skip
+    """δ, δ̇ (the system's sign arrays), force and tangents of every element at (u1, v1).
+
+    Elements flagged in ``el_off`` are held open: the step ends at their closure, and a law whose
+    force jumps at δ = 0⁺ (c v0 of the Kelvin family) must not act before it."""
     active = False
     for c in range(el_gap.size):
         a = el_dof[c, 0]
@@ -130,6 +133,11 @@ def _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el
             vc += el_sign[c, 1] * v1[b]
         d[c] = dc
         dd[c] = vc
+        if el_off[c]:
+            f[c] = 0.0
+            kd[c] = 0.0
+            cd[c] = 0.0
+            continue
         # before the onset is registered, the approach speed itself stands in for v0
         v0 = el_v0[c] if el_in[c] else max(vc, 0.0)
         fc, kc, cc = contact_eval(el_law[c], dc, vc, v0, el_hd[c], el_hf[c], el_params[c])
@@ -143,7 +151,7 @@ def _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el
 
 @jit
 def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
-            el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
+            el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf, el_off,
             tol, max_iter, J_base, J_inv, h_base,
             u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J):  # fmt: skip
     """One Newmark/HHT step of length hs from (u, v, a); fills the *1 arrays. Returns (ok, iterations)."""
@@ -178,7 +186,7 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
             a1[i] = c0 * du - c2 * v[i] - c3 * a[i]
             v1[i] = c1 * du - c4 * v[i] - c5 * a[i]
         active = _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
-                                el_hd, el_hf, d1, dd1, f1, kd1, cd1)  # fmt: skip
+                                el_hd, el_hf, el_off, d1, dd1, f1, kd1, cd1)  # fmt: skip
         if it > 0 and (small or (not active and not prev_active)):
             return True, it
         if it == max_iter:
@@ -257,10 +265,12 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     el_hf = np.zeros(n_el)
     el_imp = -np.ones(n_el, dtype=np.int64)
     closing = np.zeros(n_el, dtype=np.bool_)
+    none_off = np.zeros(n_el, dtype=np.bool_)
     theta = np.zeros(n_el)
     w = 1.0 + alpha
     J_base = (1.0 / (beta * h * h)) * M + w * ((gamma / (beta * h)) * C + K)
     J_inv = np.linalg.inv(J_base)
+    M_inv = np.linalg.inv(M)
     # initial gaps (a contact may start closed when a gap is 0)
     for c in range(n_el):
         d0[c] = -el_gap[c]
@@ -283,7 +293,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             hs = min(hs_try, t_next - t)
             ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                               el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
-                              tol, max_iter, J_base, J_inv, h,
+                              none_off, tol, max_iter, J_base, J_inv, h,
                               u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
             counters[CNT_NEWTON] += its
             if not ok:
@@ -312,7 +322,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     hs = th_min * hs
                     ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                                       el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
-                                      el_hd, el_hf, tol, max_iter, J_base, J_inv, h,
+                                      el_hd, el_hf, closing, tol, max_iter, J_base, J_inv, h,
                                       u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
                     counters[CNT_NEWTON] += its
                     counters[CNT_LOCATED] += 1
@@ -340,6 +350,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             p_d0 = p_d1
             p_c0 = p_c1
             # impacts: onsets, running maxima, separations
+            onset = False
             for c in range(n_el):
                 if not el_in[c] and (closing[c] or d1[c] > 0.0):
                     if closing[c]:
@@ -349,6 +360,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     else:
                         th, vc = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
                         t_on = t + th * hs
+                    onset = True
                     el_in[c] = True
                     el_v0[c] = max(vc, 0.0)
                     el_hd[c] = 0.0
@@ -388,6 +400,20 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     else:
                         el_hd[c] = d1[c]
                         el_hf[c] = f1[c]
+            if onset:
+                # a law whose force jumps at δ = 0⁺ (c v0) changes the acceleration at the onset:
+                # restart the next step from equilibrium with that force, not the pre-impact one
+                _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
+                               el_hd, el_hf, none_off, d1, dd1, f1, kd1, cd1)  # fmt: skip
+                rhs = -Mi * g1 - C @ v1 - K @ u1
+                p_c0 = 0.0
+                for c in range(n_el):
+                    p_c0 += f1[c] * dd1[c]
+                    for s in range(2):
+                        i = el_dof[c, s]
+                        if i >= 0:
+                            rhs[i] -= el_sign[c, s] * f1[c]
+                a1[:] = M_inv @ rhs
             # accept
             for i in range(n):
                 u[i] = u1[i]
