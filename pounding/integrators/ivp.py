@@ -1,0 +1,669 @@
+r"""Reference integration with :func:`scipy.integrate.solve_ivp`, events at gap closure and separation.
+
+The equations of motion of :mod:`pounding.system`,
+
+.. math:: M\ddot u + C\dot u + K u + B^T F(\delta, \dot\delta) = -M\iota\, a_g(t),
+          \qquad \delta = B u - g,
+
+are integrated in first-order form with the state
+
+.. math:: y = [u,\ \dot u,\ F_{bl},\ J,\ E_{in},\ E_D,\ W_c]
+
+where F_bl is the force of each ``bilinear`` element (its loop is hysteretic, so the force is carried
+as a state with rate :func:`pounding.contact.laws.bilinear_rate`), J the cumulative impulse ∫F dt of
+each element and the last three the energy integrals (relative-energy form of Uang & Bertero [3])
+
+.. math:: E_{in} = -\int \dot u^T M\iota\, a_g\,dt, \qquad E_D = \int \dot u^T C\dot u\,dt, \qquad
+          W_c = \int F^T\dot\delta\,dt
+
+so that E_in = E_K + E_S + E_D + W_c holds exactly, with the kinetic and strain energies
+E_K = ½u̇ᵀMu̇, E_S = ½uᵀKu. The contact work splits into the energy still stored in the contacts and the
+energy dissipated, W_c = E_stored + E_dissipated.
+
+How the integration is cut into pieces:
+
+* **Ground-motion samples.** a_g is linear between samples, so its slope jumps at every sample. The
+  integration restarts at each sample so that the right-hand side is smooth inside every solver call
+  (a high-order method stepping over a kink would otherwise shrink its step at every sample).
+* **Contact events.** Every gap element has a terminal event δ_c = 0, upward (closure) while the element
+  is open, downward (separation) while it is closed. At closure the impact velocity v0 = δ̇ is stored
+  (the history variable of the Hunt-Crossley family and ``hertz_kelvin``) and the bilinear force state
+  reset to 0; the integration restarts there, so each contact phase starts cleanly. The event direction
+  follows the element's state, so an event does not fire again at the restart point. Force kinks inside
+  a phase (a Kelvin force clamped at zero while δ > 0) are not events.
+
+Peaks are taken from the dense output at :data:`SAMPLES_PER_STEP` points inside every accepted solver
+step, plus the step ends and the event points, not only on the output grid; the contact force and
+penetration peaks are then refined by a bounded search on the dense output around the largest sample.
+
+References
+----------
+.. [1] Virtanen, P. et al. (2020). SciPy 1.0: fundamental algorithms for scientific computing in Python.
+   Nature Methods 17, 261-272. doi:10.1038/s41592-019-0686-2
+.. [2] Hairer, E., Nørsett, S.P., Wanner, G. (1993). Solving Ordinary Differential Equations I, 2nd ed.
+   Springer. Sec. II.5 (DOP853), II.6 (dense output), II.4 (step-size control).
+.. [3] Uang, C.-M., Bertero, V.V. (1990). Evaluation of seismic energy in structures. Earthquake Eng.
+   Struct. Dyn. 19(1), 77-90. doi:10.1002/eqe.4290190108
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar
+
+from pounding.ground_motion import GroundMotion, ground_velocity
+from pounding.integrators._kernels import (
+    BILINEAR_ID,
+    bilinear_rate,
+    contact_eval,
+    contact_stored_energy,
+    jit,
+)
+from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, RawResult
+from pounding.system import PoundingSystem
+
+#: solve_ivp methods this path accepts.
+IVP_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
+
+#: Points per accepted solver step at which the dense output is sampled for the peaks.
+SAMPLES_PER_STEP = 16
+
+_EPS = np.finfo(float).eps
+
+
+# --------------------------------------------------------------------------------------------------
+# Compiled contact evaluation over elements (plain arrays)
+# --------------------------------------------------------------------------------------------------
+
+
+@jit
+def _element_forces(law, params, d, dd, v0, fstate, force, rate):
+    """Force [N] of every element, and dF/dt [N/s] of the bilinear force states (0 elsewhere)."""
+    for c in range(law.size):
+        if law[c] == BILINEAR_ID:
+            force[c] = max(fstate[c], 0.0) if d[c] > 0.0 else 0.0
+            rate[c] = bilinear_rate(d[c], dd[c], fstate[c], params[c])
+        else:
+            force[c] = contact_eval(law[c], d[c], dd[c], v0[c], 0.0, 0.0, params[c])[0]
+            rate[c] = 0.0
+
+
+@jit
+def _rhs_kernel(t, y, dy, b, gap, law, params, v0, bil, a_k, a_c, a_b, iota, m_iota, cmat, ag, ws):
+    """dy/dt of the first-order form (layout of :class:`_Model`); ``ag`` = (a0, slope, t0) of a_g."""
+    n = iota.size
+    ne = gap.size
+    nb = bil.size
+    d, dd, fstate, force, rate = ws[0], ws[1], ws[2], ws[3], ws[4]
+    for c in range(ne):
+        s = 0.0
+        sd = 0.0
+        for j in range(n):
+            s += b[c, j] * y[j]
+            sd += b[c, j] * y[n + j]
+        d[c] = s - gap[c]
+        dd[c] = sd
+    for k in range(nb):
+        fstate[bil[k]] = y[2 * n + k]
+    _element_forces(law, params, d, dd, v0, fstate, force, rate)
+    a_g = ag[0] + ag[1] * (t - ag[2])
+    e_in = 0.0
+    e_damp = 0.0
+    for i in range(n):
+        dy[i] = y[n + i]
+        acc = -iota[i] * a_g
+        cv = 0.0
+        for j in range(n):
+            acc -= a_k[i, j] * y[j] + a_c[i, j] * y[n + j]
+            cv += cmat[i, j] * y[n + j]
+        for c in range(ne):
+            acc -= a_b[i, c] * force[c]
+        dy[n + i] = acc
+        e_in -= y[n + i] * m_iota[i] * a_g
+        e_damp += y[n + i] * cv
+    work = 0.0
+    for k in range(nb):
+        dy[2 * n + k] = rate[bil[k]]
+    for c in range(ne):
+        dy[2 * n + nb + c] = force[c]
+        work += force[c] * dd[c]
+    base = 2 * n + nb + ne
+    dy[base] = e_in
+    dy[base + 1] = e_damp
+    dy[base + 2] = work
+
+
+@jit
+def _sampled_forces(law, params, d, dd, v0, fstate):
+    """Forces [N] and stored energies [J], shape (samples, elements), at many states of one phase."""
+    ns, ne = d.shape
+    force = np.zeros((ns, ne))
+    stored = np.zeros((ns, ne))
+    rate = np.zeros(ne)
+    for i in range(ns):
+        _element_forces(law, params, d[i], dd[i], v0, fstate[i], force[i], rate)
+        for c in range(ne):
+            stored[i, c] = contact_stored_energy(law[c], d[i, c], force[i, c], params[c])
+    return force, stored
+
+
+# --------------------------------------------------------------------------------------------------
+# Options
+# --------------------------------------------------------------------------------------------------
+
+
+def _validate(
+    method: str, rtol: float, atol: float | None, max_step: float | None, output_times
+) -> tuple[str, float, float | None, float, np.ndarray]:
+    if not isinstance(method, str) or method.upper() not in {m.upper() for m in IVP_METHODS}:
+        raise ValueError(f"ivp method = {method!r}; allowed: {', '.join(IVP_METHODS)}")
+    method = next(m for m in IVP_METHODS if m.upper() == method.upper())
+    rtol = float(rtol)
+    if not (math.isfinite(rtol) and 100.0 * _EPS <= rtol < 1.0):
+        raise ValueError(f"rtol = {rtol}; allowed: a relative tolerance in [{100 * _EPS:.3g}, 1)")
+    if atol is not None:
+        atol = float(atol)
+        if not (math.isfinite(atol) and atol > 0.0):
+            raise ValueError(f"atol = {atol}; allowed: a positive absolute tolerance [m] or None")
+    if max_step is None:
+        max_step = math.inf
+    else:
+        max_step = float(max_step)
+        if not (max_step > 0.0) or math.isnan(max_step):
+            raise ValueError(f"max_step = {max_step}; allowed: a positive step [s] or None")
+    times = np.asarray(output_times, dtype=float)
+    if times.ndim != 1 or times.size == 0:
+        raise ValueError(
+            f"output_times has shape {times.shape}; allowed: a non-empty 1-D array of times [s]"
+        )
+    if not np.all(np.isfinite(times)) or times[0] < 0.0:
+        raise ValueError(
+            f"output_times starts at {times[0]} s; allowed: finite times >= 0 [s] (t = 0 is rest)"
+        )
+    if times.size > 1 and not np.all(np.diff(times) > 0.0):
+        i = int(np.flatnonzero(np.diff(times) <= 0.0)[0])
+        raise ValueError(
+            f"output_times[{i + 1}] = {times[i + 1]} s after {times[i]} s; allowed: strictly "
+            "increasing times"
+        )
+    return method, rtol, atol, max_step, times
+
+
+# --------------------------------------------------------------------------------------------------
+# The first-order model
+# --------------------------------------------------------------------------------------------------
+
+
+class _Model:
+    """State layout, right-hand side and derived quantities of a system (one object per run)."""
+
+    def __init__(self, system: PoundingSystem):
+        el = system.elements
+        n = system.n_dof
+        ne = len(el)
+        self.n, self.ne = n, ne
+        # B from the system's own penetration map (δ of unit displacements), so the sign convention
+        # stays in system.py: δ(e_j) = B[:, j] − g.
+        unit_delta, _ = system.penetration(np.eye(n), np.zeros((n, n)))
+        self.B = np.ascontiguousarray((unit_delta + el.el_gap).T).reshape(ne, n)
+        self.gap = np.asarray(el.el_gap, dtype=float)
+        self.law = np.ascontiguousarray(el.el_law, dtype=np.int64)
+        self.params = np.ascontiguousarray(el.el_params, dtype=float)
+        self.bil = np.flatnonzero(self.law == BILINEAR_ID)
+        nb = self.bil.size
+        self.mass = np.asarray(system.mass, dtype=float)
+        self.stiffness = np.asarray(system.stiffness, dtype=float)
+        self.damping = np.asarray(system.damping, dtype=float)
+        self.iota = np.asarray(system.influence, dtype=float)
+        self.below = np.asarray(system.below, dtype=np.int64)
+        self.m_iota = self.mass @ self.iota
+        minv = np.linalg.inv(self.mass)
+        self.a_k = np.ascontiguousarray(minv @ self.stiffness)
+        self.a_c = np.ascontiguousarray(minv @ self.damping)
+        self.a_b = np.ascontiguousarray(minv @ self.B.T)
+        # state layout
+        self.iu = slice(0, n)
+        self.iv = slice(n, 2 * n)
+        self.ifb = slice(2 * n, 2 * n + nb)
+        self.ij = slice(2 * n + nb, 2 * n + nb + ne)
+        self.i_in, self.i_damp, self.i_work = 2 * n + nb + ne + np.arange(3)
+        self.size = 2 * n + nb + ne + 3
+        # history variables (per contact phase)
+        self.v0 = np.zeros(ne)
+        # a_g(t) = ag[0] + ag[1] (t − ag[2]) on the current ground-motion segment
+        self.ag = np.zeros(3)
+        self._ws = np.zeros((5, ne))  # workspace of the compiled right-hand side
+
+    def set_ground(self, ground: GroundMotion, ta: float, tb: float) -> None:
+        """The linear piece of ``ground.at`` on the open interval (ta, tb) (no sample inside)."""
+        h = tb - ta
+        t1, t2 = ta + h / 3.0, ta + 2.0 * h / 3.0
+        a1, a2 = (float(x) for x in ground.at(np.array([t1, t2])))
+        slope = (a2 - a1) / (t2 - t1)
+        self.ag[:] = (a1 - slope * (t1 - ta), slope, ta)
+
+    def ground_at(self, t):
+        return self.ag[0] + self.ag[1] * (t - self.ag[2])
+
+    def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
+        dy = np.empty(self.size)
+        _rhs_kernel(
+            t, y, dy, self.B, self.gap, self.law, self.params, self.v0, self.bil, self.a_k,
+            self.a_c, self.a_b, self.iota, self.m_iota, self.damping, self.ag, self._ws,
+        )  # fmt: skip
+        return dy
+
+    def element_value(self, y: np.ndarray, c: int, key: str) -> float:
+        """Penetration δ [m] (key "d") or contact force [N] (key "force") of element c at state y."""
+        d = float(self.B[c] @ y[self.iu]) - self.gap[c]
+        if key == "d" or d <= 0.0:
+            return d if key == "d" else 0.0
+        if self.law[c] == BILINEAR_ID:
+            return max(float(y[self.ifb.start + int(np.searchsorted(self.bil, c))]), 0.0)
+        dd = float(self.B[c] @ y[self.iv])
+        return float(contact_eval(self.law[c], d, dd, self.v0[c], 0.0, 0.0, self.params[c])[0])
+
+    def derived(self, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarray]:
+        """Physical quantities at states ``y`` (state, samples) of the current phase; rows = samples."""
+        u = y[self.iu].T
+        v = y[self.iv].T
+        d = u @ self.B.T - self.gap
+        dd = v @ self.B.T
+        fstate = np.zeros((t.size, self.ne))
+        fstate[:, self.bil] = y[self.ifb].T
+        force, stored = _sampled_forces(
+            self.law,
+            self.params,
+            np.ascontiguousarray(d),
+            np.ascontiguousarray(dd),
+            self.v0,
+            fstate,
+        )
+        ag = self.ground_at(t)
+        acc = -(u @ self.a_k.T) - (v @ self.a_c.T) - force @ self.a_b.T - np.outer(ag, self.iota)
+        stored_sum = stored.sum(axis=1)
+        energy = np.column_stack(
+            (
+                y[self.i_in],
+                0.5 * np.einsum("ti,ij,tj->t", v, self.mass, v),
+                0.5 * np.einsum("ti,ij,tj->t", u, self.stiffness, u),
+                y[self.i_damp],
+                y[self.i_work] - stored_sum,
+                stored_sum,
+            )
+        )
+        below = np.where(self.below >= 0, u[:, np.maximum(self.below, 0)], 0.0)
+        return dict(
+            u=u,
+            v=v,
+            acc=acc,
+            abs_acc=acc + np.outer(ag, self.iota),
+            drift=u - below,
+            d=d,
+            dd=dd,
+            force=force,
+            energy=energy,
+            ag=ag,
+        )
+
+    def tolerances(self, system: PoundingSystem, ground: GroundMotion, rtol, atol):
+        """Absolute tolerance per state component, and the displacement tolerance [m] it implies.
+
+        Characteristic sizes: velocity v_c = min(PGV, PGA/ω1) (ω1 the lowest natural frequency of any
+        building), displacement u_c = min(v_c/ω1, δ*) with δ* = (m̄ v_c²/k)^(1/(n+1)) the smallest
+        impact penetration scale of any element (so penetrations, not just floor displacements,
+        are resolved), v_c √(m̄ k) for bilinear forces, m̄ v_c for impulses, (Σm) v_c² for energies.
+        Each component gets ``rtol`` times its size; a user ``atol`` [m] replaces rtol·u_c and
+        scales the others alike.
+        """
+        omega1 = 2.0 * math.pi / max(float(b.modal().periods.max()) for b in system.buildings)
+        pgv = float(np.abs(ground_velocity(ground)).max())
+        v_c = min(pgv, ground.pga / omega1)
+        if not v_c > 0.0:  # no excitation: any positive scale will do
+            v_c = 1e-3 * omega1
+        m_el = np.asarray(system.elements.el_mass, dtype=float)
+        k_el = self.params[:, 0]
+        n_el = np.where(self.law == BILINEAR_ID, 1.0, self.params[:, 1])
+        d_star = (m_el * v_c**2 / k_el) ** (1.0 / (n_el + 1.0))
+        u_c = float(min(v_c / omega1, d_star.min(initial=math.inf)))
+        e_c = float(np.trace(self.mass)) * v_c**2
+        scale = np.empty(self.size)
+        scale[self.iu] = u_c
+        scale[self.iv] = v_c
+        scale[self.ifb] = v_c * np.sqrt(m_el[self.bil] * k_el[self.bil])
+        scale[self.ij] = m_el * v_c
+        scale[[self.i_in, self.i_damp, self.i_work]] = e_c
+        factor = rtol if atol is None else atol / u_c
+        return factor * scale, factor * u_c
+
+
+# --------------------------------------------------------------------------------------------------
+# Recording: output grid, peaks, impact log
+# --------------------------------------------------------------------------------------------------
+
+
+class _Recorder:
+    def __init__(self, model: _Model, times: np.ndarray, ground: GroundMotion):
+        nt, n, ne = times.size, model.n, model.ne
+        self.times = times
+        self.next = 0  # index of the next output time to fill
+        self.out = dict(
+            u=np.zeros((nt, n)),
+            v=np.zeros((nt, n)),
+            acc=np.zeros((nt, n)),
+            d=np.zeros((nt, ne)),
+            force=np.zeros((nt, ne)),
+            energy=np.zeros((nt, len(ENERGY_TERMS))),
+        )
+        self.ground = np.asarray(ground.at(times), dtype=float)
+        self.peak = dict(
+            u=np.zeros(n),
+            drift=np.zeros(n),
+            abs_acc=np.zeros(n),
+            force=np.zeros(ne),
+            d=np.zeros(ne),
+        )
+        self.impacts: list[dict[str, float]] = []
+        self.open: dict[int, dict[str, float]] = {}
+
+    def fill(self, model: _Model, sol, t_end: float) -> None:
+        """Output-grid values for the times not yet filled up to t_end (the end of a solver call)."""
+        times = self.times
+        lo = self.next
+        hi = int(np.searchsorted(times, t_end, side="right"))
+        if hi <= lo:
+            return
+        t = times[lo:hi]
+        q = model.derived(t, sol(t))
+        for key, arr in self.out.items():
+            arr[lo:hi] = q[key]
+        self.next = hi
+
+    def track(self, model: _Model, sol, ts: np.ndarray, in_contact: np.ndarray) -> None:
+        """Peaks over the dense output sampled inside every step of one solver call."""
+        h = np.diff(ts)
+        frac = np.arange(SAMPLES_PER_STEP) / SAMPLES_PER_STEP
+        t = np.append((ts[:-1, None] + h[:, None] * frac[None, :]).ravel(), ts[-1])
+        q = model.derived(t, sol(t))
+        pk = self.peak
+        np.maximum(pk["u"], np.abs(q["u"]).max(axis=0), out=pk["u"])
+        np.maximum(pk["drift"], np.abs(q["drift"]).max(axis=0), out=pk["drift"])
+        np.maximum(pk["abs_acc"], np.abs(q["abs_acc"]).max(axis=0), out=pk["abs_acc"])
+        if not model.ne:
+            return
+        np.maximum(pk["force"], q["force"].max(axis=0), out=pk["force"])
+        np.maximum(pk["d"], q["d"].max(axis=0), out=pk["d"])
+        last = t.size - 1
+        for c in np.flatnonzero(in_contact):
+            rec = self.open[int(c)]
+            for key, field, peak in (
+                ("force", "peak_force", pk["force"]),
+                ("d", "max_penetration", pk["d"]),
+            ):
+                values = q[key][:, c]
+                i = int(np.argmax(values))
+                best = float(values[i])
+                # refine only a new running maximum that lies inside this call (one still rising at
+                # the call's end peaks in the next call)
+                if best > rec[field] and i < last:
+                    lo, hi = t[max(i - 1, 0)], t[i + 1]
+                    best = max(best, _refine_max(model, sol, lo, hi, int(c), key))
+                rec[field] = max(rec[field], best)
+                peak[c] = max(peak[c], best)
+
+    def close_contact(self, c: int, t: float, dd: float, impulse: float) -> None:
+        rec = self.open.pop(c)
+        rec.update(end=t, v_end=dd, impulse=impulse - rec.pop("_j0"))
+        self.impacts.append(rec)
+
+    def open_contact(self, c: int, t: float, v0: float, impulse: float) -> None:
+        self.open[c] = dict(
+            element=c,
+            start=t,
+            end=math.nan,
+            v0=v0,
+            v_end=math.nan,
+            peak_force=0.0,
+            max_penetration=0.0,
+            impulse=math.nan,
+            _j0=impulse,
+        )
+
+    def impact_log(self, impulse_now: np.ndarray) -> dict[str, np.ndarray]:
+        rows = list(self.impacts)
+        for c, rec in self.open.items():  # still in contact when the record ends
+            rec = dict(rec)
+            rec["impulse"] = float(impulse_now[c]) - rec.pop("_j0")
+            rows.append(rec)
+        rows.sort(key=lambda r: (r["start"], r["element"]))
+        log = {f: np.array([r[f] for r in rows], dtype=float) for f in IMPACT_FIELDS}
+        log["element"] = log["element"].astype(np.int64)
+        return log
+
+
+def _refine_max(model: _Model, sol, lo: float, hi: float, c: int, key: str) -> float:
+    """Largest value of element c's force or penetration found by Brent's search in [lo, hi].
+
+    Only values actually evaluated on the dense output are returned, so a kink (clamped force, law
+    switching) cannot make it overshoot.
+    """
+    res = minimize_scalar(
+        lambda tt: -model.element_value(sol(tt), c, key),
+        bounds=(lo, hi),
+        method="bounded",
+        options=dict(xatol=1e-7 * (hi - lo)),
+    )
+    return -float(res.fun)
+
+
+# --------------------------------------------------------------------------------------------------
+# Driver
+# --------------------------------------------------------------------------------------------------
+
+
+def _breakpoints(ground: GroundMotion, t_end: float) -> np.ndarray:
+    """0, every ground sample time inside (0, t_end), t_end: a_g is linear between two of them."""
+    inner = ground.time[(ground.time > 0.0) & (ground.time < t_end)]
+    return np.concatenate(([0.0], inner, [t_end]))
+
+
+def _events(model: _Model, in_contact: np.ndarray) -> list:
+    """δ_c = 0 for every element: upward (closure) if open, downward (separation) if closed."""
+    n = model.n
+    events = []
+    for c in range(model.ne):
+        row, g = model.B[c], float(model.gap[c])
+
+        def event(t, y, row=row, g=g):
+            return float(row @ y[:n]) - g
+
+        event.terminal = True
+        event.direction = -1.0 if in_contact[c] else 1.0
+        events.append(event)
+    return events
+
+
+def integrate_ivp(
+    system: PoundingSystem,
+    ground: GroundMotion,
+    *,
+    output_times: np.ndarray,
+    method: str = "DOP853",
+    rtol: float = 1e-8,
+    atol: float | None = None,
+    max_step: float | None = None,
+) -> RawResult:
+    r"""Integrate a pounding system from rest with :func:`scipy.integrate.solve_ivp` and contact events.
+
+    Solves :math:`M\ddot u + C\dot u + K u + B^T F(\delta,\dot\delta) = -M\iota\,a_g(t)` (the system
+    equation of :mod:`pounding.system`) from u = u̇ = 0 at t = 0 to ``output_times[-1]``, restarting
+    the solver at every ground-motion sample and at every gap closure and separation (see the module
+    docstring). This is the reference path: accurate and simple rather than fast.
+
+    Parameters
+    ----------
+    system : PoundingSystem
+        Buildings and gap elements (:func:`pounding.system.assemble`).
+    ground : GroundMotion
+        Ground acceleration, ``ground.at(t)`` [m/s²] (linear between samples, 0 after the record).
+    output_times : array_like
+        Strictly increasing times [s], >= 0, at which the response is stored.
+    method : {"RK45", "DOP853", "Radau", "BDF", "LSODA"}
+        solve_ivp method. DOP853 (explicit, order 8) is the default; the implicit ones are slow here
+        because they restart at every sample with a finite-difference Jacobian.
+    rtol : float
+        Relative tolerance, in [100 ε, 1).
+    atol : float, optional
+        Absolute tolerance on displacements [m]; the other states get it scaled by their
+        characteristic size (:meth:`_Model.tolerances`). Default: ``rtol`` times the smaller of a
+        response displacement scale and the impact penetration scale of the stiffest contact.
+    max_step : float, optional
+        Largest solver step [s]; default unlimited (steps never cross a ground-motion sample).
+
+    Returns
+    -------
+    RawResult
+        Output-grid response, peaks over every solver step, impact log, energy terms and ``info``
+        with integrator="ivp", method, rtol, atol (the displacement tolerance used [m]), n_rhs (total
+        right-hand-side evaluations), n_events (closures + separations), n_steps, n_calls.
+
+    References
+    ----------
+    .. [1] Virtanen, P. et al. (2020). SciPy 1.0. Nature Methods 17, 261-272.
+       doi:10.1038/s41592-019-0686-2
+    .. [2] Hairer, E., Nørsett, S.P., Wanner, G. (1993). Solving Ordinary Differential Equations I,
+       2nd ed. Springer.
+    """
+    method, rtol, atol, max_step, times = _validate(method, rtol, atol, max_step, output_times)
+    if not isinstance(system, PoundingSystem):
+        raise ValueError(f"system = {type(system).__name__}; allowed: a PoundingSystem")
+    if not isinstance(ground, GroundMotion):
+        raise ValueError(f"ground = {type(ground).__name__}; allowed: a GroundMotion")
+
+    model = _Model(system)
+    atol_vec, atol_u = model.tolerances(system, ground, rtol, atol)
+    rec = _Recorder(model, times, ground)
+    t_end = float(times[-1])
+    y = np.zeros(model.size)
+    in_contact = np.zeros(model.ne, dtype=bool)
+    n_rhs = n_steps = n_calls = n_events = 0
+    stalls = 0
+    t = 0.0
+    first_step: float | None = None
+
+    # t_end = 0: nothing to integrate, the structure is at rest (the zero-initialised outputs)
+    bps = _breakpoints(ground, t_end) if t_end > 0.0 else np.zeros(1)
+    for ta, tb in zip(bps[:-1], bps[1:], strict=True):
+        model.set_ground(ground, ta, tb)
+        while t < tb:
+            sol = solve_ivp(
+                model.rhs,
+                (t, tb),
+                y,
+                method=method,
+                rtol=rtol,
+                atol=atol_vec,
+                max_step=max_step,
+                first_step=None if first_step is None else min(first_step, tb - t),
+                events=_events(model, in_contact) if model.ne else None,
+                dense_output=True,
+            )
+            n_calls += 1
+            n_rhs += int(sol.nfev)
+            if sol.status < 0:
+                raise RuntimeError(
+                    f"solve_ivp ({method}) failed at t = {sol.t[-1]:.6g} s: {sol.message}"
+                )
+            t_new = float(sol.t[-1])
+            ts = sol.sol.ts
+            if ts.size > 1 and ts[-1] > ts[0]:
+                n_steps += ts.size - 1
+                rec.track(model, sol.sol, ts, in_contact)
+                rec.fill(model, sol.sol, t_new)
+                # carry the last full step into the next segment (no step-size search at each sample)
+                first_step = float(np.max(np.diff(ts)))
+                stalls = 0
+            else:
+                stalls += 1
+                if stalls > 3 * model.ne + 3:
+                    raise RuntimeError(
+                        f"solve_ivp restarts made no progress at t = {t:.9g} s (contact events "
+                        "firing at the restart point)"
+                    )
+            y = sol.y[:, -1].copy()
+            t = t_new
+            if sol.status == 1:
+                fired = [c for c, te in enumerate(sol.t_events) if te.size]
+                n_events += _switch(model, rec, y, t, in_contact, fired)
+                first_step = None  # a new contact phase: let the solver choose its first step
+
+    out = rec.out
+    impulse_now = y[model.ij]
+    return RawResult(
+        time=times.copy(),
+        displacement=out["u"],
+        velocity=out["v"],
+        acceleration=out["acc"],
+        ground_acceleration=rec.ground,
+        penetration=out["d"],
+        contact_force=out["force"],
+        energy=out["energy"],
+        peak_displacement=rec.peak["u"],
+        peak_drift=rec.peak["drift"],
+        peak_absolute_acceleration=rec.peak["abs_acc"],
+        peak_contact_force=rec.peak["force"],
+        peak_penetration=rec.peak["d"],
+        impacts=rec.impact_log(impulse_now),
+        info=dict(
+            integrator="ivp",
+            method=method,
+            rtol=rtol,
+            atol=atol_u,
+            max_step=None if math.isinf(max_step) else max_step,
+            n_rhs=n_rhs,
+            n_events=n_events,
+            n_steps=n_steps,
+            n_calls=n_calls,
+            samples_per_step=SAMPLES_PER_STEP,
+        ),
+    )
+
+
+def _switch(
+    model: _Model,
+    rec: _Recorder,
+    y: np.ndarray,
+    t: float,
+    in_contact: np.ndarray,
+    fired: list[int],
+) -> int:
+    """Open or close the contact of the elements whose event fired at t; returns the number switched.
+
+    Other elements are checked too: an open element with δ > 0 and δ̇ > 0 (or a closed one with
+    δ < 0 and δ̇ < 0) had its event at the same instant as the one that stopped the solver (ties are
+    reported one at a time) and is switched now.
+    """
+    d = model.B @ y[model.iu] - model.gap
+    dd = model.B @ y[model.iv]
+    switch = set(fired)
+    for c in range(model.ne):
+        if (not in_contact[c] and d[c] > 0.0 and dd[c] > 0.0) or (
+            in_contact[c] and d[c] < 0.0 and dd[c] < 0.0
+        ):
+            switch.add(c)
+    impulse = y[model.ij]
+    for c in sorted(switch):
+        if in_contact[c]:
+            rec.close_contact(c, t, float(dd[c]), float(impulse[c]))
+            in_contact[c] = False
+        else:
+            model.v0[c] = dd[c]
+            k = np.searchsorted(model.bil, c)
+            if k < model.bil.size and model.bil[k] == c:
+                y[model.ifb.start + k] = 0.0
+            rec.open_contact(c, t, float(dd[c]), float(impulse[c]))
+            in_contact[c] = True
+    return len(switch)
