@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 from scipy.special import beta as beta_fn
 
-from pounding import __version__
+from pounding._version import __version__
 from pounding.contact.laws import LAWS_BY_ID
 from pounding.ground_motion import GroundMotion
 from pounding.integrators.base import RawResult
