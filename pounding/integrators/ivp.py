@@ -512,7 +512,7 @@ def integrate_ivp(
     output_times : array_like
         Strictly increasing times [s], >= 0, at which the response is stored.
     method : {"RK45", "DOP853", "Radau", "BDF", "LSODA"}
-        solve_ivp method. DOP853 (explicit, order 8) is the default; the implicit ones are slow here
+        solve_ivp method. DOP853 (explicit, order 8) is the default; Radau and BDF are slow here
         because they restart at every sample with a finite-difference Jacobian.
     rtol : float
         Relative tolerance, in [100 ε, 1).
@@ -526,9 +526,16 @@ def integrate_ivp(
     Returns
     -------
     RawResult
-        Output-grid response, peaks over every solver step, impact log, energy terms and ``info``
-        with integrator="ivp", method, rtol, atol (the displacement tolerance used [m]), n_rhs (total
-        right-hand-side evaluations), n_events (closures + separations), n_steps, n_calls.
+        On ``output_times``: displacement, velocity and relative acceleration (from the equation of
+        motion) per dof, ``ground.at(t)``, the signed penetration δ (negative while open) and the
+        contact force per element, and the energy terms (:data:`ENERGY_TERMS`, cumulative).
+        Peaks over the dense output of every solver step: |u|, |u_i − u_below|, |ü + a_g| per dof;
+        contact force and penetration per element (0 for an element that never closes).
+        Impact log (:data:`IMPACT_FIELDS`), one row per impact sorted by start time; ``impulse`` is
+        ∫F dt over the impact (up to the end of the run for an impact still open, whose ``end`` and
+        ``v_end`` are NaN). ``info``: integrator="ivp", method, rtol, atol (the displacement
+        tolerance used [m]), max_step, n_rhs (right-hand-side evaluations), n_events (closures +
+        separations), n_steps (accepted steps), n_calls (solve_ivp calls), samples_per_step.
 
     References
     ----------
