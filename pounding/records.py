@@ -1052,9 +1052,24 @@ SUITES: dict[
 }
 
 
+_FEMA_DESCRIPTIONS = {
+    "farfield": "FEMA P695 far-field set, 22 records x 2 components (needs pounding[records])",
+    "nearfield": "FEMA P695 near-field set, 28 records x 2 components (needs pounding[records])",
+    "nearfield-pulse": "FEMA P695 near-field records 1-14, with velocity pulse",
+    "nearfield-no-pulse": "FEMA P695 near-field records 15-28, without pulse",
+}
+
+
+def suite_descriptions() -> dict[str, str]:
+    """One line describing each suite of :func:`list_suites`."""
+    out = {f"fema-p695:{name}": text for name, text in _FEMA_DESCRIPTIONS.items()}
+    out.update({name: SUITES[name][2] for name in ("synthetic", "ground-motions")})
+    return out
+
+
 def list_suites() -> list[str]:
     """Names of the record suites accepted by :func:`list_records`."""
-    return [f"fema-p695:{name}" for name in _FEMA_SETS] + ["synthetic", "ground-motions"]
+    return list(suite_descriptions())
 
 
 def list_records(suite: str) -> list[str]:
