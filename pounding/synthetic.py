@@ -367,7 +367,8 @@ def spectrum_compatible(
     Gaussian white noise (from ``seed``) is multiplied by the envelope; at each iteration the
     record's Fourier transform is multiplied by the ratio target/achieved PSa,
     interpolated in log-period from ``n_control`` control periods spread geometrically over
-    the target's period range (Gasparini and Vanmarcke 1976). The iteration stops when the
+    the target's period range (Gasparini and Vanmarcke 1976); 2 % half-cosine ramps keep the
+    record's ends at zero. The iteration stops when the
     largest relative deviation over the control periods is at most ``tolerance`` or after
     ``max_iterations``; the best record found is returned either way.
 
@@ -434,6 +435,10 @@ def spectrum_compatible(
     log_period_of_freq = np.full(freq.size, np.inf)
     log_period_of_freq[1:] = -np.log(freq[1:])
     log_control = np.log(control)
+    ends = np.ones(n)
+    m = max(2, n // 50)  # 2 % half-cosine ramps
+    ends[:m] = 0.5 * (1.0 - np.cos(np.pi * np.arange(m) / m))
+    ends[n - m :] = ends[:m][::-1]
 
     best = (math.inf, acc, 0)
     for iteration in range(int(max_iterations) + 1):
@@ -444,7 +449,8 @@ def spectrum_compatible(
         if error <= tolerance or iteration == max_iterations:
             break
         ratio = np.interp(log_period_of_freq, log_control, target / achieved)
-        acc = np.fft.irfft(np.fft.rfft(acc, n_fft) * ratio, n_fft)[:n]
+        # the correction spreads energy over the whole record: keep its ends at zero
+        acc = ends * np.fft.irfft(np.fft.rfft(acc, n_fft) * ratio, n_fft)[:n]
     error, acc, used = best
     meta = {
         "source": "synthetic",
