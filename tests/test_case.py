@@ -88,3 +88,16 @@ def test_missing_and_invalid_files(tmp_path):
     bad.write_text("title = \n")
     with pytest.raises(CaseError, match="not valid TOML"):
         load_case(bad)
+
+
+SHARED = Path(__file__).resolve().parents[2] / "shared" / "data" / "ground_motions"
+
+
+@pytest.mark.skipif(not SHARED.is_dir(), reason="../shared/data not present")
+def test_case_with_el_centro_file_in_g(tmp_path):
+    # the 1940 El Centro NS record (two columns, time and acceleration in g): PGA 0.3188 g
+    data = copy.deepcopy(BASE)
+    data["ground_motion"] = {"file": str(SHARED / "elcentro_1940_ns_g_dt002.txt"), "units": "g"}
+    case = case_from_dict(data)
+    assert case.ground_motion.dt == pytest.approx(0.02)
+    assert case.ground_motion.pga == pytest.approx(0.3188 * G, rel=1e-3)

@@ -154,3 +154,23 @@ def test_energy_balance_closes_for_pounding_pair():
     assert ds.attrs["energy_balance_error"] < 1e-2
     e = ds["energy"].isel(time=-1)
     assert float(e.sel(term="contact_dissipated")) > 0.0
+
+
+def test_step_halving_recovers_and_matches_a_fine_run():
+    # With only 3 Newton iterations allowed, large steps into a stiff Hertz contact fail and are
+    # halved; the halved run must still match a fine-step reference.
+    system = _wall_case("hertz", period=0.5, xi=0.05, gap=0.005, k=1e11)
+    gm = sine_pulse(amplitude=4.0, period=0.5, duration=1.0, dt=0.005)
+    coarse = integrate_newmark(system, gm, dt=2e-3, output_every=5, n_steps=500, max_iter=3)
+    fine = integrate_newmark(system, gm, dt=1e-5, output_every=1000, n_steps=100_000)
+    assert coarse.info["n_halvings"] > 0
+    np.testing.assert_allclose(coarse.peak_displacement, fine.peak_displacement, rtol=5e-3)
+    assert coarse.peak_contact_force[0] == pytest.approx(fine.peak_contact_force[0], rel=2e-2)
+
+
+def test_record_not_starting_at_zero_gets_a_zero_prepended():
+    gm = GroundMotion(np.full(200, 1.0), 0.01, name="step")
+    ds = simulate(assemble([_sdof(0.5)]), gm, output_dt=0.01)
+    assert float(ds["ground_acceleration"].isel(time=0)) == 0.0
+    assert float(ds["ground_acceleration"].sel(time=0.01)) == pytest.approx(1.0)
+    assert "prepended a zero sample" in ds.attrs["record_processing"]
