@@ -245,9 +245,17 @@ def test_resolve_synthetic_reference():
 
 
 def test_resolve_design_spectrum_compatible_reference():
-    gm = resolve("synthetic:asce7?sds=1.0&sd1=0.6&seed=1&duration=15")[0]
-    assert gm.metadata["target"]["s_ds"] == 1.0
-    assert gm.metadata["achieved_tolerance"] <= 0.1 or not gm.metadata["converged"]
+    # ASCE 7 shape with the FEMA P695 SDC Dmax values; the record meets 10 % against the target
+    # recomputed here with the compiled spectra
+    from pounding.spectra import asce7_spectrum, response_spectrum
+
+    gm = resolve("synthetic:asce7?sds=1.0&sd1=0.6&seed=1")[0]
+    assert gm.metadata["target"] == {"code": "asce7", "s_ds": 1.0, "s_d1": 0.6, "t_l": 8.0}
+    assert gm.metadata["converged"]
+    control = np.array(gm.metadata["control_periods"])
+    target = asce7_spectrum(control, s_ds=1.0, s_d1=0.6, t_l=8.0).values
+    psa = response_spectrum(gm, control).PSa.values
+    assert np.max(np.abs(psa / target - 1)) <= 0.1 + 2e-3
 
 
 @pytest.mark.parametrize(
