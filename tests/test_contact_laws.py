@@ -22,6 +22,7 @@ from pounding.contact.calibrate import contact_parameters
 from pounding.contact.laws import (
     CONTACT_LAWS,
     LAWS_BY_ID,
+    V0_FLOOR,
     alpha_flores,
     alpha_gonthier,
     alpha_hu_guo,
@@ -156,7 +157,7 @@ def _params(name, e):
 
 
 # e from a small set so hertz_kelvin's numerical calibration is computed once per value
-restitution = st.sampled_from([0.3, 0.6, 0.9, 1.0])
+restitution = st.sampled_from([0.3, 0.9, 1.0])
 speed = st.floats(min_value=-2.0, max_value=2.0)
 impact_speed = st.floats(min_value=0.05, max_value=2.0)
 fraction = st.floats(min_value=0.0, max_value=1.0)
@@ -176,7 +177,7 @@ def history(draw, name, p):
     return d_prev, lower + draw(fraction) * (upper - lower)
 
 
-props = settings(deadline=None, max_examples=100)
+props = settings(deadline=None, max_examples=60)
 
 
 @pytest.mark.parametrize("name", LAW_NAMES)
@@ -248,6 +249,16 @@ VANISHING_AT_CONTACT = {
 }  # fmt: skip
 
 
+def _damping_at_contact(name, p, v0):
+    """c [N·s/m] of the Kelvin-type laws as their docstrings define it."""
+    if name == "hertz_kelvin":
+        # c = ζ m̄ v0/δ*, δ* = (m̄ v0²/k_h)^(1/(n+1)), ζ = p[2], m̄ = p[3]
+        k, n, zeta, m = p
+        v = max(v0, V0_FLOOR)
+        return zeta * m * v / (m * v * v / k) ** (1.0 / (n + 1.0))
+    return p[2]  # kelvin, kelvin_approach: c = 2ξ√(k m̄), packed
+
+
 @pytest.mark.parametrize("name", LAW_NAMES)
 @props
 @given(data=st.data())
@@ -262,14 +273,15 @@ def test_continuity_at_contact_from_above(name, data):
     assert abs(f - dd * kv) <= 1e-3 * f_ref
     if name in VANISHING_AT_CONTACT:
         assert f <= 1e-3 * f_ref
-    elif dd > 0.0 and p[2] > 0.0:
-        assert f > 0.0  # the documented damping jump of the Kelvin-type laws
-        assert f == pytest.approx(dd * kv, rel=1e-9)
+    else:
+        # the documented damping jump of the Kelvin-type laws: F(0+) = max(c δ̇, 0)
+        c = _damping_at_contact(name, p, v0)
+        assert f == pytest.approx(max(c * dd, 0.0), rel=1e-9, abs=1e-9 * f_ref)
 
 
 def test_vanishing_set_is_exact():
     # Guard for the list above: a law not in it must really jump at contact.
-    p = _params("kelvin", 0.6)
+    p = _params("kelvin", 0.9)
     assert get_contact_law("kelvin").kernel(1e-20, 1.0, 1.0, 0.0, 0.0, p)[0] == pytest.approx(p[2])
     assert VANISHING_AT_CONTACT < set(LAW_NAMES)
 
