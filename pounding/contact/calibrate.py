@@ -221,12 +221,13 @@ def _solve_damping(
 
     hi = law.damping_from_e(e) if law.damping_from_e is not None else 1.0
     hi = max(hi, 1e-3)
-    if law.is_bilinear:
-        hi = min(hi, 0.999)
+    # the bilinear loop keeps K2 > 0 only while its dissipation parameter is below (n + 1)(1 − a)
+    cap = (n + 1.0) * (1.0 - a) * (1.0 - 1e-9) if law.is_bilinear else math.inf
+    hi = min(hi, cap)
     for _ in range(60):
         if residual(hi) < 0.0:
             break
-        hi = hi * 2.0 if not law.is_bilinear else 0.5 * (hi + 1.0)
+        hi = min(hi * 2.0, 0.5 * (hi + cap))
     else:
         raise ValueError(
             f"law {name!r}: no damping gives an effective restitution as low as e = {e}"
