@@ -180,6 +180,142 @@ def laws_restitution(
     typer.echo(f"  contact duration       {r.contact_duration:.4g} s")
 
 
+# --- separation verb ---
+
+
+def _print_separation(ds: Any, path: str | None) -> None:
+    import math
+
+    from pounding.separation import separation_summary
+
+    s = separation_summary(ds)
+    attrs = ds.attrs
+    recs = s["records"]
+    shown = ", ".join(recs[:4]) + (f", ... ({len(recs)} in all)" if len(recs) > 4 else "")
+    typer.echo(f"separation distance: {s['title'] or 'case'}")
+    typer.echo(f"  records: {shown}")
+    typer.echo(
+        f"  exact gaps: time histories without contact, method {s['method']}, dt {s['dt']:.3g} s, "
+        f"duration {attrs.get('duration', math.nan):.4g} s, max over every integration step"
+    )
+    typer.echo(f"  spectral and code estimates: {s['spectrum']}")
+    if "option_c_d" in attrs:
+        typer.echo(
+            f"  ASCE/SEI 7-16 §12.12.3: C_d {attrs['option_c_d']:g}, I_e {attrs['option_i_e']:g}, "
+            f"R {attrs['option_r']:g} (delta_max = I_e u_el / R)"
+        )
+    if "option_q" in attrs:
+        q_d = attrs.get("option_q_d", attrs["option_q"])
+        typer.echo(
+            f"  EN 1998-1:2004 §4.4.2.7: q {attrs['option_q']:g}, q_d {q_d:g} (d_e = u_el / q)"
+        )
+    stat_head = "median [m]" if len(recs) == 1 else "median [m]   84th [m]    max [m]"
+    for f in s["interfaces"]:
+        typer.echo("")
+        typer.echo(f"  interface {f['name']} (facing pairs {', '.join(f['pairs'])})")
+        typer.echo(f"    {'required gap':<52s} {stat_head}   basis")
+        for row in f["table"]:
+            if len(recs) == 1 or row["estimate"] == "lognormal_target":
+                values = f"{row['median']:10.4g}"
+                if len(recs) > 1:
+                    values += " " * 22
+            else:
+                values = f"{row['median']:10.4g} {row['p84']:10.4g} {row['max']:10.4g}"
+            typer.echo(f"    {row['label']:<52s} {values}   {row['basis']}")
+    typer.echo("")
+    typer.echo(
+        "  probability of pounding vs gap (fraction of records with contact | lognormal fit)"
+    )
+    names = [f["name"] for f in s["interfaces"]]
+    typer.echo("    gap [m]  " + "  ".join(f"{n:>21s}" for n in names))
+    gaps = s["interfaces"][0]["curve"]["gap"]
+    for i in range(0, len(gaps), max(1, len(gaps) // 12)):
+        cells = "  ".join(
+            f"{f['curve']['empirical'][i]:10.3f} {f['curve']['lognormal'][i]:10.3f}"
+            for f in s["interfaces"]
+        )
+        typer.echo(f"    {gaps[i]:7.4f}  {cells}")
+    if path:
+        typer.echo(f"  written {path}")
+
+
+_SEPARATION_RECORDS = typer.Option(
+    None,
+    "--records",
+    help="Record reference or suite (repeatable), e.g. fema-p695:farfield; default the case's "
+    "[separation] records, else its ground motion.",
+)
+
+
+@app.command("separation")
+@user_errors
+def separation(
+    case: str = typer.Argument(..., help="TOML case file (an optional [separation] table)."),
+    records: list[str] = _SEPARATION_RECORDS,
+    spectrum: str = typer.Option(
+        None, help="Spectrum of the spectral and code estimates: record | asce7 | ec8."
+    ),
+    s_ds: float = typer.Option(None, "--sds", help="ASCE 7 S_DS [g]."),
+    s_d1: float = typer.Option(None, "--sd1", help="ASCE 7 S_D1 [g]."),
+    t_l: float = typer.Option(None, "--tl", help="ASCE 7 T_L [s]."),
+    a_g: float = typer.Option(None, "--ag", help="EC8 design ground acceleration a_g [g]."),
+    ground_type: str = typer.Option(None, "--ground-type", help="EC8 ground type A-E."),
+    spectrum_type: int = typer.Option(None, "--spectrum-type", help="EC8 spectrum type 1 or 2."),
+    c_d: float = typer.Option(None, "--cd", help="ASCE 7 deflection amplification factor C_d."),
+    i_e: float = typer.Option(None, "--ie", help="ASCE 7 importance factor I_e (default 1)."),
+    r: float = typer.Option(None, "--r", help="ASCE 7 response modification coefficient R."),
+    q: float = typer.Option(None, "--q", help="EC8 behaviour factor q."),
+    q_d: float = typer.Option(
+        None, "--qd", help="EC8 displacement behaviour factor q_d (default q)."
+    ),
+    target_probability: float = typer.Option(
+        None, "--target-probability", help="Probability of pounding for the reported gap (0.1)."
+    ),
+    method: str = typer.Option(None, help="Override [analysis] method of the time histories."),
+    dt: float = typer.Option(None, help="Override the integration step [s]."),
+    output: str = typer.Option(
+        None, "-o", "--output", help="Write the separation Dataset to this NetCDF file."
+    ),
+) -> None:
+    """Required seismic gap: exact from time histories, spectral ABS/SRSS/DDC, ASCE 7 and EC8 rules,
+    probability of pounding over a record suite; one comparison table."""
+    from pounding.results import save
+    from pounding.separation import (
+        SeparationOptions,
+        load_separation_case,
+        separation_analysis,
+    )
+
+    loaded, options = load_separation_case(case)
+    flags = {
+        "records": tuple(records) if records else None,
+        "spectrum": spectrum,
+        "s_ds": s_ds,
+        "s_d1": s_d1,
+        "t_l": t_l,
+        "a_g": a_g,
+        "ground_type": ground_type,
+        "spectrum_type": spectrum_type,
+        "c_d": c_d,
+        "i_e": i_e,
+        "r": r,
+        "q": q,
+        "q_d": q_d,
+        "target_probability": target_probability,
+    }
+    table = dict(loaded.data.get("separation", {}))
+    table.update({k: v for k, v in flags.items() if v is not None})
+    options = SeparationOptions.from_mapping(table)
+    overrides = {k: v for k, v in {"method": method, "dt": dt}.items() if v is not None}
+    ds = separation_analysis(loaded, options=options, **overrides)
+    if output:
+        save(ds, output)
+    _print_separation(ds, output)
+
+
+# --- end separation verb ---
+
+
 # --- records verbs (ground motions) --- owned by the ground-motion work; keep inside these markers
 records_app = typer.Typer(
     help="Ground-motion records: list suites, show a record, response spectra, convert formats.",
