@@ -1,0 +1,235 @@
+"""The benchmark models in OpenSeesPy: the same buildings, contacts, record and Newmark scheme.
+
+Model: a 1-D domain (``-ndm 1 -ndf 1``), all nodes at x = 0. Node 1 is the (fixed) ground; each floor
+is a node with its lumped mass. Stories are ``zeroLength`` elements with an ``Elastic`` material of
+the story stiffness and ``-doRayleigh 1``; each building is a ``region`` with its own Rayleigh factors
+(α_M a0 on its nodes, β_K a1 on its story elements), i.e. the same C = a0 M + a1 K per building as
+:meth:`pounding.structure.ShearBuilding.damping_matrix` (a single-story building, which has modal
+damping in pounding, gets the equivalent β_K = c/k). Contacts are ``zeroLength`` elements from the
+left floor (node i) to the right floor (node j) with ``-doRayleigh 0``: their strain u_j − u_i = −(δ + g)
+is negative in compression and the materials take the gap as a negative number, −g.
+
+Contact materials, read from the OpenSees source (SRC/material/uniaxial/, OpenSees/OpenSees):
+
+* ``linear`` → ``ElasticPPGap E=k Fy=-1e20 gap=-g eta=0`` (EPPGapMaterial.cpp): F = k δ, never yields.
+* ``kelvin`` → ``ViscoelasticGap K=k C=c gap=-g`` (ViscoelasticGap.cpp): F = k δ + c δ̇ with **no
+  clamp**: the force turns tensile at the end of each contact (pounding clamps at 0).
+* ``hertz`` / ``lankarani_nikravesh`` / ``flores`` → ``Hertzdamp Kh=k xiNorm=α gap=-g n``
+  (Hertzdamp.cpp): F = (Kh + ξ δ̇) δ^n with ξ = xiNorm Kh / v0, i.e. k δ^n (1 + α δ̇ / v0) with α = χ v0;
+  **v0 is the trial rate of the first step that ends in contact** (re-set at every Newton iteration of
+  that step while the committed tangent is 0), not the closing speed at δ = 0 that pounding locates;
+  no clamp (tension when 1 + α δ̇/v0 < 0).
+* ``jankowski`` → ``JankowskiImpact Kh=k xi=ξ mEff=m̄ gap=-g n`` (JankowskiImpact.cpp):
+  F = Kh δ^n + 2ξ √(Kh δ^(n−1) m̄) δ̇ while approaching, Kh δ^n otherwise: the same law.
+* ``bilinear`` → ``ImpactMaterial K1 K2 -δy gap=-g`` (ImpactMaterial.cpp): the same loop, but its
+  first step in contact adds K1 times the *whole* strain increment of the step, including the part
+  before the gap closed (pounding adds K1 δ only), so the first force of every impact is too high by
+  K1 × (closing distance covered in that step before contact).
+
+None of these materials returns a damping tangent (``getDampTangent`` = 0), so OpenSees's Newton uses
+∂F/∂δ only; pounding's uses ∂F/∂δ + γ/(βh) ∂F/∂δ̇. Both converge to the same step solution.
+
+Import: the openseespy Linux wheel ships ``libblas.so.3`` in ``openseespylinux/lib`` but its
+``liblapack`` does not find it on systems without a system BLAS; :func:`load_opensees` pre-loads it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+import importlib.util
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pounding.ground_motion import GroundMotion
+from pounding.system import PoundingSystem
+
+#: OpenSees material per pounding law.
+MATERIALS = {
+    "linear": "ElasticPPGap",
+    "kelvin": "ViscoelasticGap",
+    "hertz": "Hertzdamp",
+    "lankarani_nikravesh": "Hertzdamp",
+    "flores": "Hertzdamp",
+    "jankowski": "JankowskiImpact",
+    "bilinear": "ImpactMaterial",
+}
+
+GROUND = 1
+
+
+def load_opensees():
+    """``openseespy.opensees``, pre-loading the wheel's own BLAS when the system has none."""
+    spec = importlib.util.find_spec("openseespylinux")
+    if spec is not None and spec.origin:
+        lib = Path(spec.origin).parent / "lib" / "libblas.so.3"
+        if lib.exists():
+            with contextlib.suppress(OSError):
+                ctypes.CDLL(str(lib), mode=ctypes.RTLD_GLOBAL)
+    with _quiet():
+        import openseespy.opensees as ops
+    return ops
+
+
+@contextlib.contextmanager
+def _quiet():
+    """Silence OpenSees's stderr chatter (material banners, 'impact detected' lines)."""
+    sys.stderr.flush()
+    fd = os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 2)
+    try:
+        yield
+    finally:
+        os.dup2(fd, 2)
+        os.close(fd)
+        os.close(devnull)
+
+
+def node_of_dof(i: int) -> int:
+    return i + 2
+
+
+def contact_material(ops, tag: int, law: str, gap: float, p: np.ndarray) -> None:
+    """Define the OpenSees material of a gap element with pounding kernel parameters ``p``."""
+    if gap <= 0.0:
+        raise ValueError(f"OpenSees gap materials need a gap > 0 (got {gap})")
+    if law == "linear":
+        ops.uniaxialMaterial("ElasticPPGap", tag, p[0], -1.0e20, -gap, 0.0)
+    elif law == "kelvin":
+        ops.uniaxialMaterial("ViscoelasticGap", tag, p[0], p[2], -gap)
+    elif law == "hertz":
+        ops.uniaxialMaterial("Hertzdamp", tag, p[0], 0.0, -gap, p[1])
+    elif law in ("lankarani_nikravesh", "flores"):
+        ops.uniaxialMaterial("Hertzdamp", tag, p[0], p[2], -gap, p[1])
+    elif law == "jankowski":
+        ops.uniaxialMaterial("JankowskiImpact", tag, p[0], p[2], p[3], -gap, p[1])
+    elif law == "bilinear":
+        ops.uniaxialMaterial("ImpactMaterial", tag, p[0], p[1], -p[2], -gap)
+    else:
+        raise ValueError(f"no OpenSees material for law {law!r}; allowed: {', '.join(MATERIALS)}")
+
+
+def build(
+    ops,
+    system: PoundingSystem,
+    ground: GroundMotion,
+    *,
+    tol: float = 1e-12,
+    max_iter: int = 50,
+    solver: str = "BandGeneral",
+    numberer: str = "RCM",
+) -> dict:
+    """Build the OpenSees model of ``system`` under ``ground`` and set up the transient analysis.
+
+    Returns the tags: ``nodes`` (per dof) and ``contacts`` (per gap element).
+    """
+    with _quiet():
+        ops.wipe()
+        ops.model("basic", "-ndm", 1, "-ndf", 1)
+        ops.node(GROUND, 0.0)
+        ops.fix(GROUND, 1)
+        n = system.n_dof
+        for i in range(n):
+            ops.node(node_of_dof(i), 0.0)
+            ops.mass(node_of_dof(i), float(system.mass[i, i]))
+        mat = 1
+        ele = 1
+        for b, building in enumerate(system.buildings):
+            off = int(system.dof_offset[b])
+            stories = []
+            for s, k in enumerate(building.stiffnesses):
+                ops.uniaxialMaterial("Elastic", mat, float(k))
+                below = GROUND if s == 0 else node_of_dof(off + s - 1)
+                ops.element(
+                    "zeroLength", ele, below, node_of_dof(off + s),
+                    "-mat", mat, "-dir", 1, "-doRayleigh", 1,
+                )  # fmt: skip
+                stories.append(ele)
+                mat += 1
+                ele += 1
+            a0, a1 = _rayleigh(building)
+            ops.region(b + 1, "-ele", *stories, "-rayleigh", a0, a1, 0.0, 0.0)
+        el = system.elements
+        contacts = []
+        for c in range(len(el)):
+            ia, ib = (int(x) for x in el.el_dof[c])
+            if ia < 0 or ib < 0:
+                raise ValueError("walls are not part of the OpenSees benchmark models")
+            contact_material(ops, mat, el.law[c], float(el.el_gap[c]), el.el_params[c])
+            ops.element(
+                "zeroLength", ele, node_of_dof(ia), node_of_dof(ib),
+                "-mat", mat, "-dir", 1, "-doRayleigh", 0,
+            )  # fmt: skip
+            contacts.append(ele)
+            mat += 1
+            ele += 1
+        ops.timeSeries(
+            "Path", 1, "-dt", float(ground.dt), "-values", *map(float, ground.acceleration)
+        )
+        ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+        ops.constraints("Plain")
+        ops.numberer(numberer)
+        ops.system(solver)
+        ops.test("NormDispIncr", tol, max_iter, 0)
+        ops.algorithm("Newton")
+        ops.integrator("Newmark", 0.5, 0.25)
+        ops.analysis("Transient")
+    return {"nodes": [node_of_dof(i) for i in range(system.n_dof)], "contacts": contacts}
+
+
+def _rayleigh(building) -> tuple[float, float]:
+    """(α_M, β_K) giving the building's damping matrix in pounding."""
+    if building._uses_rayleigh():
+        return building.rayleigh_coefficients()
+    if building.n_floors == 1:
+        c = float(building.damping_matrix()[0, 0])
+        return 0.0, c / float(building.stiffnesses[0])
+    raise ValueError(f"building {building.name!r}: modal damping has no Rayleigh equivalent")
+
+
+def time_analysis(ops, n_steps: int, dt: float) -> float:
+    """Wall time [s] of ``analyze(n_steps, dt)`` on a freshly built model; raises if it fails."""
+    with _quiet():
+        t0 = time.perf_counter()
+        status = ops.analyze(n_steps, dt)
+        elapsed = time.perf_counter() - t0
+    if status != 0:
+        raise RuntimeError(f"OpenSees analyze failed (status {status}) at t = {ops.getTime()}")
+    return elapsed
+
+
+def run_histories(ops, tags: dict, n_steps: int, dt: float, output_every: int) -> dict:
+    """Run the built model: displacements on the output grid and full-resolution peaks.
+
+    Calls ``analyze(output_every, dt)`` per output step and reads the nodal displacements; peaks
+    of |u| and of the contact force come from ``EnvelopeNode``/``EnvelopeElement`` recorders, which
+    see every step. (Not used for timing.)
+    """
+    nodes = tags["nodes"]
+    contacts = tags["contacts"]
+    n_out = n_steps // output_every + 1
+    u_out = np.zeros((n_out, len(nodes)))
+    with tempfile.TemporaryDirectory() as tmp:
+        fn = os.path.join(tmp, "nodes.txt")
+        fe = os.path.join(tmp, "contacts.txt")
+        with _quiet():
+            ops.recorder("EnvelopeNode", "-file", fn, "-precision", 17, "-node", *nodes,
+                         "-dof", 1, "disp")  # fmt: skip
+            if contacts:
+                ops.recorder("EnvelopeElement", "-file", fe, "-precision", 17, "-ele", *contacts,
+                             "force")  # fmt: skip
+            for k in range(n_steps // output_every):
+                if ops.analyze(output_every, dt) != 0:
+                    raise RuntimeError(f"OpenSees analyze failed at t = {ops.getTime()}")
+                u_out[k + 1] = [ops.nodeDisp(nd, 1) for nd in nodes]
+            ops.remove("recorders")
+        peak_u = np.loadtxt(fn, ndmin=2)[2]
+        # element force at node i is -stress = +F (compression); rows: min, max, |max|
+        peak_f = np.loadtxt(fe, ndmin=2)[1, 0::2] if contacts else np.zeros(0)
+    return {"u": u_out, "peak_u": peak_u, "peak_f": peak_f}
