@@ -1,10 +1,17 @@
 """``simulate(...) -> xr.Dataset``: one pounding analysis, from a case or from objects built in Python.
 
-Options are validated before anything is integrated. The default integration step resolves both the
-structure and the impacts: at least ``steps_per_period`` steps per shortest natural period and
-``steps_per_contact`` steps per estimated contact duration (the undamped duration of each gap element's
-law at an approach speed of twice the record's peak ground velocity, at least 0.1 m/s), never more than
-the record's own sampling interval. The output step is separate; peaks are tracked at every step.
+Options are validated before anything is integrated. Step control of the Newmark family:
+
+- ``adaptive = true`` (default, event-aware): while every gap is open the step is the base step, at
+  least ``steps_per_period`` per shortest natural period and never more than the record's sampling
+  interval; a step that closes a gap ends at the closure; inside a contact the step is the impact's own
+  undamped contact duration at its v0 divided by ``steps_per_contact``. The cost of a record follows the
+  impacts it has, not a global tiny step.
+- ``adaptive = false``: one fixed step everywhere, by default also resolving the contact duration
+  estimated at an approach speed of twice the record's peak ground velocity (at least 0.1 m/s).
+
+``dt`` given by the user replaces the base step. The output step is separate; peaks are tracked at
+every step.
 """
 
 from __future__ import annotations
@@ -16,14 +23,17 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
-from scipy.special import beta as beta_fn
 
 from pounding._version import __version__
-from pounding.contact.laws import LAWS_BY_ID
 from pounding.ground_motion import GroundMotion
 from pounding.integrators.base import RawResult
 from pounding.integrators.ivp import IVP_METHODS, integrate_ivp
-from pounding.integrators.newmark import SCHEMES, get_scheme, integrate_newmark
+from pounding.integrators.newmark import (
+    SCHEMES,
+    contact_duration_coefficients,
+    get_scheme,
+    integrate_newmark,
+)
 from pounding.results import build_dataset
 from pounding.system import PoundingSystem
 
@@ -58,7 +68,9 @@ class AnalysisOptions:
     locate_onset : bool
         Shorten a step that closes a gap so it ends at the closure.
     steps_per_contact, steps_per_period : int
-        Resolution used for the default dt.
+        Steps per contact duration and per shortest natural period.
+    adaptive : bool
+        Event-aware stepping (module docstring); False keeps one fixed step.
     """
 
     method: str = "newmark"
@@ -74,7 +86,8 @@ class AnalysisOptions:
     max_halvings: int = 12
     locate_onset: bool = True
     steps_per_contact: int = 20
-    steps_per_period: int = 20
+    steps_per_period: int = 40
+    adaptive: bool = True
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -111,48 +124,21 @@ class AnalysisOptions:
         return cls(**options)
 
 
-def _contact_duration_factor(n: float) -> float:
-    """t_c v0 / δ_max of an undamped k δ^n impact: 2 ∫₀¹ (1 − x^(n+1))^(-1/2) dx = 2 B(1/(n+1), 1/2)/(n+1)."""
-    return 2.0 * beta_fn(1.0 / (n + 1.0), 0.5) / (n + 1.0)
-
-
-def estimated_contact_durations(system: PoundingSystem, v_approach: float) -> np.ndarray:
-    """Undamped contact duration [s] of each gap element at approach speed ``v_approach`` [m/s].
-
-    Linear family: π √(m̄/k); Hertz family: (2 B(1/(n+1), 1/2)/(n+1)) δ_max / v0 with
-    δ_max = ((n+1) m̄ v0² / (2k))^(1/(n+1)) (2.943 δ_max/v0 for n = 3/2); bilinear: π √(m̄/K1).
-    """
-    el = system.elements
-    out = np.empty(len(el))
-    for c in range(len(el)):
-        law = LAWS_BY_ID[el.el_law[c]]
-        p = el.el_params[c]
-        m = el.el_mass[c]
-        n = 1.0 if law.is_bilinear else p[1]
-        k = p[0]
-        if n == 1.0:
-            out[c] = math.pi * math.sqrt(m / k)
-        else:
-            d_max = ((n + 1.0) * m * v_approach**2 / (2.0 * k)) ** (1.0 / (n + 1.0))
-            out[c] = _contact_duration_factor(n) * d_max / v_approach
-    return out
-
-
 def default_time_step(
     system: PoundingSystem,
     ground: GroundMotion,
     *,
     steps_per_contact: int = 20,
     steps_per_period: int = 20,
+    adaptive: bool = True,
 ) -> float:
-    """Default integration step [s] (see the module docstring)."""
-    pgv = float(np.max(np.abs(np.cumsum(ground.acceleration) * ground.dt)))
-    v_approach = max(2.0 * pgv, 0.1)
+    """Default (base) integration step [s] (see the module docstring)."""
     candidates = [system.shortest_period() / steps_per_period, ground.dt]
-    if len(system.elements):
-        candidates.append(
-            float(estimated_contact_durations(system, v_approach).min()) / steps_per_contact
-        )
+    if not adaptive and len(system.elements):
+        pgv = float(np.max(np.abs(np.cumsum(ground.acceleration) * ground.dt)))
+        v_approach = max(2.0 * pgv, 0.1)
+        coef, expo = contact_duration_coefficients(system)
+        candidates.append(float(np.min(coef * v_approach**expo)) / steps_per_contact)
     return min(candidates)
 
 
@@ -220,6 +206,7 @@ def run(
         ground,
         steps_per_contact=opts.steps_per_contact,
         steps_per_period=opts.steps_per_period,
+        adaptive=opts.adaptive,
     )
     output_dt = max(opts.output_dt or 0.005, dt)
     every = max(1, math.ceil(output_dt / dt - 1e-9))
@@ -254,6 +241,8 @@ def run(
             max_iter=opts.max_iter,
             max_halvings=opts.max_halvings,
             locate_onset=opts.locate_onset,
+            adaptive=opts.adaptive,
+            steps_per_contact=opts.steps_per_contact,
         )
     info.update({k: v for k, v in raw.info.items() if k != "dt"})
     return raw, info

@@ -174,3 +174,33 @@ def test_record_not_starting_at_zero_gets_a_zero_prepended():
     assert float(ds["ground_acceleration"].isel(time=0)) == 0.0
     assert float(ds["ground_acceleration"].sel(time=0.01)) == pytest.approx(1.0)
     assert "prepended a zero sample" in ds.attrs["record_processing"]
+
+
+def test_adaptive_refines_only_inside_impacts():
+    # Event-aware stepping: base steps (the record's 0.1 s here) while the gap is open, t_c(v0)/20
+    # inside the impact. The free-impact reference (independent DOP853; the T = 20 s building's own
+    # spring is negligible) is met as with a fine fixed step, and the number of steps is set by the
+    # impact, not by a global tiny dt.
+    system = _wall_case("hertz", period=20.0, gap=0.05, k=2.75e9)
+    gm = GroundMotion(np.r_[0.0, -2.0, 0.0], 0.1, name="kick")
+    ds = simulate(system, gm, output_dt=0.1, duration=1.0, steps_per_period=20)
+    fixed = simulate(system, gm, output_dt=0.1, duration=1.0, steps_per_period=20, adaptive=False)
+    first = ds.pounding.impacts().iloc[0]
+    ref = effective_restitution("hertz", mass=1.0e5, v0=first["v0"], k=2.75e9)
+    assert first["max_penetration"] == pytest.approx(ref.max_penetration, rel=5e-3)
+    assert first["end"] - first["start"] == pytest.approx(ref.contact_duration, rel=5e-3)
+    n_open = round(1.0 / ds.attrs["dt"])
+    assert 20 <= ds.attrs["n_substeps"] - n_open <= 60
+    # the fixed step resolves the same impact only because it is small everywhere
+    assert fixed.attrs["n_substeps"] > 5 * ds.attrs["n_substeps"]
+    assert float(fixed["peak_contact_force"][0]) == pytest.approx(
+        float(ds["peak_contact_force"][0]), rel=2e-2
+    )
+
+
+def test_adaptive_false_keeps_one_step():
+    system = _wall_case("linear", period=0.5, xi=0.05, gap=0.01, k=1e9)
+    gm = sine_pulse(amplitude=3.0, period=0.5, duration=2.0, dt=0.005)
+    ds = simulate(system, gm, dt=1e-3, output_dt=0.005, adaptive=False)
+    # only the located closures split a step
+    assert ds.attrs["n_substeps"] == 2000 + ds.attrs["n_located_onsets"]
