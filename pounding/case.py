@@ -34,7 +34,7 @@ _BUILDING_KEYS = (
 _CONTACT_KEYS = tuple(f.name for f in dataclasses.fields(Contact))
 _ANALYTIC_KEYS = ("type", "amplitude", "units", "period", "duration", "dt", "cycles", "t0", "scale")
 _RECORD_KEYS = ("file", "record", "units", "dt", "format", "scale")
-_TOP_KEYS = ("title", "building", "contact", "ground_motion", "analysis", "study")
+_TOP_KEYS = ("title", "building", "contact", "ground_motion", "analysis", "study", "separation")
 
 
 class CaseError(ValueError):

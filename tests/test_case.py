@@ -24,7 +24,10 @@ BASE = {
 }
 
 
-@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.stem)
+SINGLE_RUN_EXAMPLES = [p for p in sorted(EXAMPLES.glob("*.toml")) if "[study]" not in p.read_text()]
+
+
+@pytest.mark.parametrize("path", SINGLE_RUN_EXAMPLES, ids=lambda p: p.stem)
 def test_examples_load(path):
     case = load_case(path)
     assert case.system.n_dof >= 1
