@@ -61,7 +61,7 @@ from pounding.case import Case, CaseError, case_from_dict
 from pounding.ground_motion import GroundMotion
 from pounding.records import resolve
 from pounding.simulate import AnalysisOptions, default_time_step, run
-from pounding.spectra import design_spectrum, spectral_peaks
+from pounding.spectra import EC8_GROUND_TYPES, design_spectrum, spectral_peaks
 from pounding.structure import ShearBuilding
 from pounding.system import LEFT_SIGN, LEVEL_TOLERANCE, RIGHT_SIGN, WALL, PoundingSystem, assemble
 from pounding.units import G
@@ -755,6 +755,15 @@ class SeparationOptions:
             raise ValueError(f"{w}: spectrum = 'asce7' needs s_ds and s_d1 [g]")
         if self.spectrum == "ec8" and self.a_g is None:
             raise ValueError(f"{w}: spectrum = 'ec8' needs a_g [g]")
+        if self.spectrum_type not in EC8_GROUND_TYPES:
+            raise ValueError(f"{w}.spectrum_type = {self.spectrum_type!r}; allowed: 1, 2")
+        ground = str(self.ground_type).strip().upper()
+        if ground not in EC8_GROUND_TYPES[self.spectrum_type]:
+            raise ValueError(
+                f"{w}.ground_type = {self.ground_type!r}; allowed: "
+                f"{', '.join(EC8_GROUND_TYPES[self.spectrum_type])}"
+            )
+        object.__setattr__(self, "ground_type", ground)
         if (self.c_d is None) != (self.r is None):
             raise ValueError(
                 f"{w}: the ASCE 7 estimates need both c_d (C_d) and r (R); got c_d = {self.c_d}, "
@@ -1068,8 +1077,7 @@ def separation_analysis(
     width = max(b.n_floors for b in blds)
     n_rec, n_pair = len(grounds), len(pairs)
 
-    # time histories and spectral displacements, record by record
-    th = [_time_history(system, gm, opts, pairs) for gm in grounds]
+    # spectra first (cheap, and a bad design-spectrum parameter fails before any integration)
     params = options.spectrum_parameters()
     sd = np.full((n_rec, len(blds), width), np.nan)
     for k, gm in enumerate(grounds):
@@ -1083,6 +1091,7 @@ def separation_analysis(
         np.stack([modal_contributions(b, sd[k, i, : b.n_floors]) for k in range(n_rec)])
         for i, b in enumerate(blds)
     ]  # per building: (record, floor, mode)
+    th = [_time_history(system, gm, opts, pairs) for gm in grounds]
     peak_srss = np.full((n_rec, len(blds), width), np.nan)
     peak_cqc = np.full_like(peak_srss, np.nan)
     peak_th = np.full_like(peak_srss, np.nan)

@@ -475,6 +475,8 @@ def test_options_name_the_field_and_the_allowed_values():
         SeparationOptions(target_probability=1.5)
     with pytest.raises(ValueError, match=r"separation.q = -2"):
         SeparationOptions(q=-2)
+    with pytest.raises(ValueError, match="ground_type = 'X'; allowed: A, B, C, D, E"):
+        SeparationOptions(spectrum="ec8", a_g=0.3, ground_type="X")
 
 
 CASE_TOML = """
