@@ -290,12 +290,15 @@ def baseline_correct(gm: GroundMotion, *, order: int = 2) -> GroundMotion:
     """
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or not 2 <= order <= 10:
         raise ValueError(f"baseline_correct: order must be an integer in 2..10, got {order!r}")
+    # The record starts at rest, so the displacement baseline has no constant or linear term:
+    # fit d(t) ≈ Σ_{j=2..order} c_j t^j. (A full polynomial would leave p'(0) t in the corrected
+    # displacement, because integrating p'' from rest gives back p − p(0) − p'(0) t only.)
     t = gm.time
     scale = max(gm.duration, gm.dt)
-    poly = np.polynomial.Polynomial.fit(
-        t / scale, ground_displacement(gm), int(order), domain=[0, 1]
-    )
-    baseline = poly.deriv(2)(t / scale) / scale**2
+    x = t / scale
+    powers = np.arange(2, int(order) + 1)
+    coef, *_ = np.linalg.lstsq(x[:, None] ** powers, ground_displacement(gm), rcond=None)
+    baseline = (x[:, None] ** (powers - 2) * (powers * (powers - 1) * coef)).sum(axis=1) / scale**2
     return gm.with_step(
         f"baseline correction: degree-{order} polynomial fitted on displacement",
         gm.acceleration - baseline,
