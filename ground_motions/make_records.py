@@ -11,33 +11,46 @@ from pathlib import Path
 import numpy as np
 
 from pounding import records, spectra, synthetic
+from pounding.ground_motion import GroundMotion, bandpass, baseline_correct, scale_to_pga
 from pounding.units import G
 
 HERE = Path(__file__).resolve().parent
 
 
+def processed(gm: GroundMotion) -> GroundMotion:
+    """Standard processing of a record (Boore & Bommer 2005): 0.1-25 Hz zero-phase band-pass, cubic
+    baseline correction, rescaled to the original PGA. Filtered white noise keeps power near ω = 0,
+    which would otherwise give unphysical ground velocity and displacement drifts."""
+    pga = gm.pga
+    return scale_to_pga(baseline_correct(bandpass(gm, low=0.1, high=25.0), order=3), pga=pga)
+
+
 def make() -> dict[str, object]:
     """The shipped records by file name (without writing them)."""
     out: dict[str, object] = {}
-    out["kanai_tajimi_firm_seed1.txt"] = synthetic.kanai_tajimi(
-        seed=1,
-        duration=20.0,
-        dt=0.01,
-        omega_g=15.6,
-        zeta_g=0.6,
-        envelope_name="jennings",
-        pga=0.3 * G,
+    out["kanai_tajimi_firm_seed1.txt"] = processed(
+        synthetic.kanai_tajimi(
+            seed=1,
+            duration=20.0,
+            dt=0.01,
+            omega_g=15.6,
+            zeta_g=0.6,
+            envelope_name="jennings",
+            pga=0.3 * G,
+        )
     ).replace(name="Kanai-Tajimi firm soil, seed 1, PGA 0.3 g")
-    out["clough_penzien_soft_seed2.txt"] = synthetic.clough_penzien(
-        seed=2,
-        duration=25.0,
-        dt=0.01,
-        omega_g=6.0,
-        zeta_g=0.4,
-        omega_f=0.6,
-        zeta_f=0.4,
-        envelope_name="saragoni-hart",
-        pga=0.25 * G,
+    out["clough_penzien_soft_seed2.txt"] = processed(
+        synthetic.clough_penzien(
+            seed=2,
+            duration=25.0,
+            dt=0.01,
+            omega_g=6.0,
+            zeta_g=0.4,
+            omega_f=0.6,
+            zeta_f=0.4,
+            envelope_name="saragoni-hart",
+            pga=0.25 * G,
+        )
     ).replace(name="Clough-Penzien soft soil, seed 2, PGA 0.25 g")
     periods = np.geomspace(0.02, 4.0, 100)
     target = spectra.eurocode8_spectrum(periods, a_g=0.3 * G, ground_type="C", spectrum_type=1)
@@ -51,7 +64,7 @@ def make() -> dict[str, object]:
         name="Eurocode 8 Type 1 ground C a_g 0.3 g spectrum-compatible, seed 3",
     )
     gm.metadata["target"] = {"code": "ec8", "a_g": 0.3 * G, "ground_type": "C", "spectrum_type": 1}
-    out["ec8_type1_groundC_seed3.txt"] = gm
+    out["ec8_type1_groundC_seed3.txt"] = processed(gm)
     return out
 
 
