@@ -46,7 +46,6 @@ import datetime
 import inspect
 import json
 import math
-import tomllib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -57,7 +56,7 @@ import xarray as xr
 from scipy.stats import norm
 
 from pounding._version import __version__
-from pounding.case import Case, CaseError, case_from_dict
+from pounding.case import Case, CaseError, load_case
 from pounding.ground_motion import GroundMotion
 from pounding.records import resolve
 from pounding.simulate import AnalysisOptions, default_time_step, run
@@ -830,28 +829,15 @@ class SeparationOptions:
 
 
 def load_separation_case(path: str | Path) -> tuple[Case, SeparationOptions]:
-    """Read a case file and its optional ``[separation]`` table.
-
-    The table is read here so that a case file with one loads whether or not the case loader knows
-    the key; it is kept in ``case.data["separation"]``.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"no case file at {path}")
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(f"{path}: not valid TOML: {exc}") from None
-    table = data.pop("separation", {})
+    """Read a case file and the options of its optional ``[separation]`` table."""
+    case = load_case(path)
+    table = case.data.get("separation", {})
     if not isinstance(table, Mapping):
         raise CaseError(f"{path}: [separation] must be a table")
     try:
         options = SeparationOptions.from_mapping(table)
     except (ValueError, TypeError) as exc:
         raise CaseError(f"{path}: {exc}") from None
-    case = case_from_dict(data, base_dir=path.parent, source=str(path))
-    case = dataclasses.replace(case, path=path, data={**case.data, "separation": dict(table)})
     return case, options
 
 
