@@ -116,9 +116,16 @@ def contact_time(start: np.ndarray, end: np.ndarray, duration: float) -> float:
     return float(total + cur_e - cur_s)
 
 
-def write_json(name: str, payload: dict[str, Any]) -> Path:
-    RESULTS.mkdir(exist_ok=True)
-    path = RESULTS / name
+def out_dirs(quick: bool) -> tuple[Path, Path]:
+    """(JSON directory, PNG directory): results/ and benchmarks/, or results/quick/ for --quick."""
+    if quick:
+        return RESULTS / "quick", RESULTS / "quick"
+    return RESULTS, HERE
+
+
+def write_json(name: str, payload: dict[str, Any], directory: Path = RESULTS) -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    path = directory / name
     path.write_text(json.dumps(payload, indent=1, default=_plain) + "\n")
     return path
 

