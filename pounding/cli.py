@@ -316,6 +316,148 @@ def separation(
 # --- end separation verb ---
 
 
+# --- study and report verbs ---
+
+
+class _ProgressBar:
+    """Runs done, rate and ETA of a study on stderr: one redrawn line on a terminal, else a line
+    every few seconds."""
+
+    def __init__(self, width: int = 28, every: float = 5.0) -> None:
+        import time
+
+        self._clock = time.monotonic
+        self.start = self._clock()
+        self.last = -1e9
+        self.width = width
+        self.every = every
+        self.tty = sys.stderr.isatty()
+
+    @staticmethod
+    def _duration(seconds: float) -> str:
+        if seconds != seconds or seconds == float("inf"):
+            return "?"
+        seconds = int(round(seconds))
+        return f"{seconds // 60}m{seconds % 60:02d}s" if seconds >= 60 else f"{seconds}s"
+
+    def __call__(self, done: int, total: int, failed: int) -> None:
+        now = self._clock()
+        if total == 0 or (0 < done < total and now - self.last < (0.2 if self.tty else self.every)):
+            return
+        self.last = now
+        elapsed = now - self.start
+        rate = done / elapsed if done and elapsed > 0 else 0.0
+        eta = (total - done) / rate if rate else float("nan")
+        filled = int(self.width * done / total)
+        line = (
+            f"[{'#' * filled}{'-' * (self.width - filled)}] {done}/{total} runs, "
+            f"{rate:.2f} runs/s, elapsed {self._duration(elapsed)}, ETA {self._duration(eta)}"
+            + (f", {failed} failed" if failed else "")
+        )
+        if self.tty:
+            typer.echo(f"\r{line}", err=True, nl=done == total)
+        else:
+            typer.echo(line, err=True)
+
+
+def _raise_interrupt(signum: int, frame: Any) -> None:
+    raise KeyboardInterrupt
+
+
+@app.command()
+@user_errors
+def study(
+    case: str = typer.Argument(..., help="TOML case file with a [study] table."),
+    output: str = typer.Option(..., "-o", "--output", help="Write the study Dataset here (.nc)."),
+    jobs: int = typer.Option(
+        None, "-j", "--jobs", help="Local worker processes (default: all cores; 1 = serial)."
+    ),
+    scheduler: str = typer.Option(
+        None, help="dask.distributed scheduler address (e.g. tcp://host:8786): run there."
+    ),
+    store: str = typer.Option(
+        None, help="Directory of the per-run files (default: OUTPUT's name with .runs)."
+    ),
+    retry_failed: bool = typer.Option(
+        False, "--retry-failed", help="Run again the runs stored as failed."
+    ),
+) -> None:
+    """Run a comparative study: every combination of the [study] axes, resumable, in parallel."""
+    import signal
+    import time
+
+    from pounding.results import save
+    from pounding.studies import default_store, load_study, plan_study, run_study
+
+    if jobs is not None and jobs < 1:
+        raise UserError(f"--jobs = {jobs}; allowed: an integer >= 1")
+    start = time.monotonic()
+    loaded = load_study(case)
+    store_dir = store or default_store(output)
+    plan = plan_study(loaded, store_dir, retry_failed=retry_failed)
+    stored = len(plan.tasks) - len(plan.todo)
+    where = f"scheduler {scheduler}" if scheduler else f"{jobs or 'all'} local process(es)"
+    axes = ", ".join(f"{name} ({len(values)})" for name, values in loaded.axes.items())
+    typer.echo(f"{loaded.title or case}")
+    typer.echo(
+        f"  axes {axes}: {loaded.size} combinations, {plan.n_runs} distinct runs with the "
+        f"no-contact baselines; {stored} already stored, {len(plan.todo)} to run on {where}"
+    )
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    try:
+        ds = run_study(plan, jobs=jobs, scheduler=scheduler, progress=_ProgressBar())
+    except KeyboardInterrupt:
+        typer.echo(
+            f"\ninterrupted: finished runs are stored in {plan.store}; run the same command "
+            "again to resume",
+            err=True,
+        )
+        raise typer.Exit(code=130) from None
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    save(ds, output)
+    failed = int((ds["run_status"] == "failed").sum())
+    if "law" in ds.dims:
+        typer.echo("  median displacement amplification (with contact / without), by law:")
+        med = ds["displacement_amplification"].median(
+            [d for d in ds["displacement_amplification"].dims if d not in ("law", "building")]
+        )
+        typer.echo("  law                " + "".join(f"{str(b):>12s}" for b in ds.building.values))
+        for law in ds.law.values:
+            row = "".join(f"{v:12.3f}" for v in med.sel(law=law).values)
+            typer.echo(f"  {str(law):<18s} {row}")
+    if failed:
+        typer.echo(f"  {failed} combination(s) failed; their errors are in run_error, e.g.:")
+        first = ds["run_error"].values[ds["run_status"].values == "failed"][0]
+        typer.echo(f"    {first}")
+    typer.echo(f"  {time.monotonic() - start:.1f} s; written {output} (runs in {plan.store})")
+
+
+@app.command()
+@user_errors
+def report(
+    result: str = typer.Argument(..., help="A result (pounding run) or a study (pounding study)."),
+    output: str = typer.Option(..., "-o", "--output", help="Directory to write the report into."),
+    formats: str = typer.Option("html,pdf", "--format", help="Comma-separated: html, pdf."),
+) -> None:
+    """Write an HTML (self-contained) and/or PDF report of an analysis or a study."""
+    from pounding.report import FORMATS, write_report
+    from pounding.results import open_result
+
+    chosen = [f.strip().lower() for f in formats.split(",") if f.strip()]
+    bad = [f for f in chosen if f not in FORMATS]
+    if bad or not chosen:
+        raise UserError(
+            f"--format {formats!r}; allowed: a comma-separated list of {', '.join(FORMATS)}"
+        )
+    ds = open_result(result)
+    for path in write_report(ds, output, formats=chosen, result_path=result):
+        typer.echo(f"written {path}")
+
+
+# --- end study and report verbs ---
+
+
 # --- records verbs (ground motions) --- owned by the ground-motion work; keep inside these markers
 records_app = typer.Typer(
     help="Ground-motion records: list suites, show a record, response spectra, convert formats.",

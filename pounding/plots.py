@@ -1,0 +1,430 @@
+"""Figures of pounding results and studies, labelled from the CF attributes of the Dataset.
+
+Every function takes a Dataset (from :func:`pounding.simulate` or :func:`pounding.studies.run_study`)
+and returns a :class:`matplotlib.figure.Figure` without touching pyplot's global state, so figures can
+be made in any thread or process and saved in any format (the reports use SVG and PDF). Axis labels
+are ``long_name [units]`` of the plotted variable (:func:`label`), as xarray's own plots do.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+
+from pounding.units import G
+
+#: Width of a report figure [in].
+WIDTH = 7.5
+_NO_CONTACT = "none"
+
+
+def label(da: xr.DataArray, name: str | None = None, *, units: str | None = None) -> str:
+    """``long_name [units]`` from a variable's CF attributes (``[-]`` for dimensionless)."""
+    text = name or da.attrs.get("long_name") or str(da.name or "")
+    unit = units if units is not None else da.attrs.get("units")
+    if unit in (None, ""):
+        return text
+    return f"{text} [{'-' if unit == '1' else unit}]"
+
+
+def _figure(height: float, ncols: int = 1, nrows: int = 1, **kw) -> tuple[Figure, np.ndarray]:
+    fig = Figure(figsize=(WIDTH, height), layout="constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=False, **kw)
+    return fig, axes
+
+
+def _median(da: xr.DataArray, keep: Sequence[str]) -> xr.DataArray:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return da.median([d for d in da.dims if d not in keep], skipna=True, keep_attrs=True)
+
+
+def _buildings(ds: xr.Dataset) -> list[str]:
+    return [str(b) for b in ds["building"].values]
+
+
+def _n_floors(ds: xr.Dataset, building: str) -> int:
+    return int(np.isfinite(ds["floor_elevation"].sel(building=building).values).sum())
+
+
+# --------------------------------------------------------------------------------------------------
+# Model and ground motion
+# --------------------------------------------------------------------------------------------------
+
+
+def mode_shapes(ds: xr.Dataset, n_modes: int = 3) -> Figure:
+    """Mode shapes (roof = 1) over the floor elevation, one panel per building, periods in the legend."""
+    names = _buildings(ds)
+    fig, axes = _figure(3.2, ncols=len(names), sharey=True)
+    for ax, name in zip(axes[0], names, strict=True):
+        n = _n_floors(ds, name)
+        z = np.concatenate(([0.0], ds["floor_elevation"].sel(building=name).values[:n]))
+        for m in range(1, min(n_modes, n) + 1):
+            phi = ds["mode_shape"].sel(building=name, mode=m).values[:n]
+            period = float(ds["natural_period"].sel(building=name, mode=m))
+            ax.plot(
+                np.concatenate(([0.0], phi)),
+                z,
+                marker="o",
+                ms=3,
+                label=f"mode {m}: T = {period:.3g} s",
+            )
+        ax.axvline(0.0, color="0.6", lw=0.8)
+        ax.set_title(f"building {name}")
+        ax.set_xlabel(label(ds["mode_shape"]))
+        ax.legend(fontsize="small")
+    axes[0, 0].set_ylabel(label(ds["floor_elevation"]))
+    return fig
+
+
+def ground_motions(
+    records: Sequence[tuple[str, np.ndarray, float]], *, max_records: int = 6
+) -> Figure:
+    """Ground acceleration [g] of records given as (name, acceleration [m/s²], dt [s])."""
+    shown = list(records)[:max_records]
+    fig, axes = _figure(1.2 + 1.3 * len(shown), nrows=len(shown), sharex=True)
+    for ax, (name, acc, dt) in zip(axes[:, 0], shown, strict=True):
+        acc = np.asarray(acc)
+        acc = acc[np.isfinite(acc)]
+        ax.plot(dt * np.arange(acc.size), acc / G, lw=0.7)
+        ax.set_title(str(name), fontsize="small", loc="left")
+        ax.set_ylabel("a_g [g]")
+    axes[-1, 0].set_xlabel("time [s]")
+    if len(records) > len(shown):
+        fig.suptitle(f"first {len(shown)} of {len(records)} records", fontsize="small")
+    return fig
+
+
+def response_spectra(spectra: xr.Dataset, periods: dict[str, float] | None = None) -> Figure:
+    """Pseudo-spectral acceleration [g] of one or more records, with the buildings' periods marked."""
+    fig, axes = _figure(3.4)
+    ax = axes[0, 0]
+    psa = spectra["PSa"]
+    if "record" in psa.dims:
+        for name in psa["record"].values:
+            ax.plot(spectra["period"], psa.sel(record=name) / G, lw=0.9, label=str(name))
+        if psa.sizes["record"] > 1:
+            ax.plot(spectra["period"], psa.median("record") / G, color="k", lw=2, label="median")
+    else:
+        ax.plot(spectra["period"], psa / G, lw=1.0)
+    for name, t in (periods or {}).items():
+        ax.axvline(t, color="0.4", ls=":", lw=1)
+        ax.annotate(
+            f"T1 {name}",
+            (t, 1),
+            xycoords=("data", "axes fraction"),
+            rotation=90,
+            va="top",
+            ha="right",
+            fontsize="small",
+        )
+    ax.set_xscale("log")
+    ax.set_xlabel(label(spectra["period"]))
+    damping = spectra.attrs.get("damping", None)
+    ax.set_ylabel(label(psa, "pseudo-spectral acceleration", units="g"))
+    if damping is not None:
+        ax.set_title(f"damping {damping}", fontsize="small")
+    if "record" in psa.dims and psa.sizes["record"] <= 8:
+        ax.legend(fontsize="x-small")
+    ax.grid(True, which="both", alpha=0.3)
+    return fig
+
+
+# --------------------------------------------------------------------------------------------------
+# One analysis
+# --------------------------------------------------------------------------------------------------
+
+
+def _contact_name(ds: xr.Dataset, c: int) -> str:
+    sel = ds.sel(contact=c)
+    text = f"{sel['contact_left'].item()}:{int(sel['contact_left_floor'])}–"
+    text += f"{sel['contact_right'].item()}:{int(sel['contact_right_floor'])}"
+    if "contact_law" in ds.coords:
+        text += f" ({sel['contact_law'].item()})"
+    return text
+
+
+def displacement_histories(ds: xr.Dataset) -> Figure:
+    """Displacement of each building's roof and contact floors over time, impacts marked."""
+    names = _buildings(ds)
+    fig, axes = _figure(1.4 + 1.9 * len(names), nrows=len(names), sharex=True)
+    u = ds["displacement"]
+    starts = ds["impact_start"].values if "impact_start" in ds else np.array([])
+    which = ds["impact_contact"].values if "impact_contact" in ds else np.array([], dtype=int)
+    for ax, name in zip(axes[:, 0], names, strict=True):
+        n = _n_floors(ds, name)
+        floors = {n}
+        for c in ds["contact"].values:
+            for side in ("left", "right"):
+                if ds[f"contact_{side}"].values[c] == name:
+                    floors.add(int(ds[f"contact_{side}_floor"].values[c]))
+        for f in sorted(floors, reverse=True):
+            line = ax.plot(ds["time"], u.sel(building=name, floor=f), lw=0.8, label=f"floor {f}")
+            # an impact marked on the floor it hits, at its start
+            for c in ds["contact"].values:
+                sides = [
+                    s
+                    for s in ("left", "right")
+                    if ds[f"contact_{s}"].values[c] == name
+                    and int(ds[f"contact_{s}_floor"].values[c]) == f
+                ]
+                if not sides:
+                    continue
+                t = starts[which == c]
+                if t.size:
+                    y = np.interp(t, ds["time"].values, u.sel(building=name, floor=f).values)
+                    ax.plot(t, y, "v", ms=4, color=line[0].get_color(), mec="k", mew=0.4)
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_title(f"building {name} (▼ impact)", fontsize="small", loc="left")
+        ax.set_ylabel(label(u, "displacement"))
+        ax.legend(fontsize="x-small", ncol=4, loc="upper right")
+    axes[-1, 0].set_xlabel(label(ds["time"]))
+    return fig
+
+
+def envelopes(
+    ds: xr.Dataset, other: xr.Dataset | None = None, names: tuple[str, str] = ("", "")
+) -> Figure:
+    """Peak displacement and peak drift ratio over the height of every building.
+
+    With ``other`` (e.g. the no-contact run) both are drawn, labelled by ``names``.
+    """
+    fig, axes = _figure(3.6, ncols=2, sharey=True)
+    sets = [(ds, names[0], "-")] + ([(other, names[1], "--")] if other is not None else [])
+    for data, tag, ls in sets:
+        for name in _buildings(data):
+            n = _n_floors(data, name)
+            z = data["floor_elevation"].sel(building=name).values[:n]
+            disp = data["peak_displacement"].sel(building=name).values[:n]
+            drift = data["peak_drift_ratio"].sel(building=name).values[:n]
+            text = f"{name} {tag}".strip()
+            axes[0, 0].plot(
+                np.concatenate(([0.0], disp)),
+                np.concatenate(([0.0], z)),
+                ls,
+                marker="o",
+                ms=3,
+                label=text,
+            )
+            zz = np.repeat(np.concatenate(([0.0], z)), 2)[1:-1]
+            axes[0, 1].plot(np.repeat(drift, 2), zz, ls, label=text)
+    axes[0, 0].set_xlabel(label(ds["peak_displacement"]))
+    axes[0, 1].set_xlabel(label(ds["peak_drift_ratio"]))
+    axes[0, 0].set_ylabel(
+        label(ds["floor_elevation"]) if "floor_elevation" in ds else "elevation [m]"
+    )
+    for ax in axes[0]:
+        ax.set_xlim(left=0.0)
+        ax.legend(fontsize="x-small")
+        ax.grid(True, alpha=0.3)
+    return fig
+
+
+def _active_contacts(ds: xr.Dataset) -> list[int]:
+    peak = ds["contact_force"].max("time").values if "contact_force" in ds else []
+    return [int(c) for c, p in zip(ds["contact"].values, peak, strict=False) if p > 0]
+
+
+def contact_forces(ds: xr.Dataset) -> Figure:
+    """Contact force over time of every gap element that closed."""
+    active = _active_contacts(ds) or [int(c) for c in ds["contact"].values[:1]]
+    fig, axes = _figure(1.2 + 1.5 * len(active), nrows=max(1, len(active)), sharex=True)
+    for ax, c in zip(axes[:, 0], active, strict=False):
+        ax.plot(ds["time"], ds["contact_force"].sel(contact=c), lw=0.8)
+        ax.set_title(f"contact {c}: {_contact_name(ds, c)}", fontsize="small", loc="left")
+        ax.set_ylabel(label(ds["contact_force"], "force"))
+    axes[-1, 0].set_xlabel(label(ds["time"]))
+    return fig
+
+
+def _largest_impact(ds: xr.Dataset) -> tuple[int, slice] | None:
+    """Gap element and output samples of the impact with the largest force (None: no impact)."""
+    active = _active_contacts(ds)
+    if not active:
+        return None
+    c = max(active, key=lambda k: float(ds["contact_force"].sel(contact=k).max()))
+    f = ds["contact_force"].sel(contact=c).values
+    d = ds["penetration"].sel(contact=c).values
+    i = int(np.argmax(f))
+    inside = (f > 0) | (d > 0)
+    lo, hi = i, i
+    while lo > 0 and inside[lo - 1]:
+        lo -= 1
+    while hi < f.size - 1 and inside[hi + 1]:
+        hi += 1
+    return c, slice(max(lo - 1, 0), min(hi + 2, f.size))
+
+
+def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = "") -> Figure:
+    """Force–penetration loop of the strongest impact of each (label, Dataset).
+
+    Drawn from the stored samples (output grid or kept histories), from the sample before the
+    gap closes to the one after it opens; the peaks in the tables are exact, tracked at every
+    integration step.
+    """
+    fig, axes = _figure(3.6)
+    ax = axes[0, 0]
+    for text, ds in runs:
+        found = _largest_impact(ds)
+        if found is None:
+            continue
+        c, window = found
+        d = np.maximum(ds["penetration"].sel(contact=c).values[window], 0.0)
+        f = ds["contact_force"].sel(contact=c).values[window]
+        t0 = float(ds["time"].values[window][0])
+        ax.plot(
+            d * 1e3,
+            f / 1e6,
+            marker=".",
+            ms=3,
+            lw=1.0,
+            label=f"{text} (contact {c}, t = {t0:.2f} s)",
+        )
+    ax.set_xlabel("penetration [mm]")
+    ax.set_ylabel("contact force [MN]")
+    ax.set_xlim(left=0.0)
+    ax.set_ylim(bottom=0.0)
+    ax.grid(True, alpha=0.3)
+    if title:
+        ax.set_title(title, fontsize="small")
+    if ax.lines:
+        ax.legend(fontsize="x-small")
+    return fig
+
+
+def energy(ds: xr.Dataset) -> Figure:
+    """The energy ledger over time: input energy against the sum of the other terms."""
+    fig, axes = _figure(3.4)
+    ax = axes[0, 0]
+    e = ds["energy"]
+    terms = [str(t) for t in e["term"].values if str(t) != "input"]
+    parts = np.stack([e.sel(term=t).values for t in terms])
+    ax.stackplot(ds["time"].values, np.clip(parts, 0.0, None) / 1e3, labels=terms, alpha=0.8)
+    ax.plot(ds["time"], e.sel(term="input") / 1e3, color="k", lw=1.2, label="input")
+    err = ds.attrs.get("energy_balance_error")
+    if err is not None:
+        ax.set_title(
+            f"energy balance error {100 * float(err):.3g} % of the input", fontsize="small"
+        )
+    ax.set_xlabel(label(ds["time"]))
+    ax.set_ylabel(label(e, units="kJ"))
+    ax.legend(fontsize="x-small", loc="upper left")
+    return fig
+
+
+# --------------------------------------------------------------------------------------------------
+# Studies
+# --------------------------------------------------------------------------------------------------
+
+
+def _laws(ds: xr.Dataset) -> list[str]:
+    return [str(v) for v in ds["law"].values if str(v) != _NO_CONTACT] if "law" in ds.dims else []
+
+
+def amplification(
+    ds: xr.Dataset, variable: str = "displacement_amplification", x: str = "gap"
+) -> Figure:
+    """Median amplification (with contact / without) against axis ``x``, a line per law, a panel per
+    building; the band spans the 16th-84th percentiles over the records."""
+    da = ds[variable]
+    names = _buildings(ds)
+    fig, axes = _figure(3.4, ncols=len(names), sharey=True)
+    laws = _laws(ds) or [None]
+    for ax, name in zip(axes[0], names, strict=True):
+        sub = da.sel(building=name)
+        for law in laws:
+            s = sub.sel(law=law) if law is not None else sub
+            if x in s.dims:
+                keep = [x]
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", RuntimeWarning)
+                    med = _median(s, keep)
+                    others = [d for d in s.dims if d != x]
+                    lo = s.quantile(0.16, dim=others, skipna=True) if others else s
+                    hi = s.quantile(0.84, dim=others, skipna=True) if others else s
+                xs = ds[x].values
+                line = ax.plot(xs, med.values, marker="o", ms=3, label=law or variable)
+                ax.fill_between(xs, lo.values, hi.values, color=line[0].get_color(), alpha=0.12)
+                ax.set_xlabel(label(ds[x]))
+            else:
+                med = float(_median(s, []))
+                ax.bar(str(law), med)
+        ax.axhline(1.0, color="k", lw=0.8, ls="--")
+        ax.set_title(f"building {name}", fontsize="small")
+        ax.grid(True, alpha=0.3)
+    axes[0, 0].set_ylabel(label(da, "amplification", units="1"))
+    if laws != [None] and any(line for line in axes[0, 0].lines):
+        axes[0, -1].legend(fontsize="x-small")
+    fig.suptitle(da.attrs.get("long_name", variable), fontsize="small")
+    return fig
+
+
+def heatmap(
+    ds: xr.Dataset,
+    variable: str,
+    x: str,
+    y: str,
+    *,
+    building: str | None = None,
+    scale: float = 1.0,
+    units: str | None = None,
+    fmt: str = "{:.2f}",
+    name: str | None = None,
+) -> Figure:
+    """Median of ``variable`` over all axes but ``x`` and ``y`` as an annotated heat map."""
+    da = ds[variable]
+    if building is not None and "building" in da.dims:
+        da = da.sel(building=building)
+    if "contact" in da.dims:
+        da = da.max("contact", skipna=True, keep_attrs=True)
+    if y == "law":
+        da = da.sel(law=_laws(ds))
+    med = _median(da, [y, x]).transpose(y, x) * scale
+    fig, axes = _figure(0.9 + 0.32 * med.sizes[y] + 0.6)
+    ax = axes[0, 0]
+    values = med.values
+    finite = values[np.isfinite(values)]
+    vmin, vmax = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    im = ax.imshow(values, aspect="auto", cmap="viridis", vmin=vmin, vmax=vmax)
+    for (i, j), v in np.ndenumerate(values):
+        if math.isfinite(v):
+            light = (v - vmin) / (vmax - vmin or 1.0) < 0.6
+            ax.text(
+                j,
+                i,
+                fmt.format(v),
+                ha="center",
+                va="center",
+                fontsize="x-small",
+                color="w" if light else "k",
+            )
+    ax.set_xticks(
+        range(med.sizes[x]), [f"{v:g}" if isinstance(v, float) else str(v) for v in med[x].values]
+    )
+    ax.set_yticks(range(med.sizes[y]), [str(v) for v in med[y].values])
+    ax.set_xlabel(label(ds[x]))
+    ax.set_ylabel(label(ds[y]))
+    cbar = fig.colorbar(im, ax=ax)
+    cbar.set_label(label(da, name, units=units), fontsize="small")
+    title = da.attrs.get("long_name", variable) + (f", building {building}" if building else "")
+    ax.set_title(f"median: {title}", fontsize="small")
+    return fig
+
+
+def study_histories(runs: Sequence[tuple[str, xr.Dataset]], building: str) -> Figure:
+    """Roof displacement of ``building`` over time for several runs (label, Dataset)."""
+    fig, axes = _figure(3.2)
+    ax = axes[0, 0]
+    for text, ds in runs:
+        n = _n_floors(ds, building) if "floor_elevation" in ds else ds.sizes["floor"]
+        ax.plot(ds["time"], ds["displacement"].sel(building=building, floor=n), lw=0.8, label=text)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(f"roof displacement of {building} [m]")
+    ax.legend(fontsize="x-small", ncol=2)
+    ax.grid(True, alpha=0.3)
+    return fig

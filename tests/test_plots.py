@@ -1,0 +1,85 @@
+"""Figures label themselves from CF attributes and draw the numbers of the Dataset."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from matplotlib.figure import Figure
+from test_studies import ROOT, _small_study
+
+from pounding import plots
+from pounding.case import load_case
+from pounding.simulate import simulate
+
+
+@pytest.fixture(scope="module")
+def analysis():
+    return simulate(load_case(ROOT / "examples" / "two_sdof.toml"))
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    from pounding.studies import run_study
+
+    return run_study(_small_study(), tmp_path_factory.mktemp("plots") / "runs", jobs=1)
+
+
+def test_label_from_cf_attributes():
+    da = xr.DataArray([1.0], attrs={"long_name": "peak drift ratio", "units": "1"})
+    assert plots.label(da) == "peak drift ratio [-]"
+    da.attrs["units"] = "m/s^2"
+    assert plots.label(da) == "peak drift ratio [m/s^2]"
+    assert plots.label(da, "acc", units="g") == "acc [g]"
+    assert plots.label(xr.DataArray([1.0], name="x")) == "x"
+
+
+def test_envelopes_are_labelled_and_draw_the_peaks(analysis):
+    fig = plots.envelopes(analysis)
+    ax_disp, ax_drift = fig.axes[:2]
+    assert ax_disp.get_xlabel() == plots.label(analysis["peak_displacement"])
+    assert ax_drift.get_xlabel() == plots.label(analysis["peak_drift_ratio"])
+    first = analysis["building"].values[0]
+    n = int(np.isfinite(analysis["floor_elevation"].sel(building=first)).sum())
+    x = ax_disp.lines[0].get_xdata()
+    np.testing.assert_array_equal(x[1:], analysis["peak_displacement"].sel(building=first)[:n])
+
+
+def test_analysis_figures_build(analysis):
+    for make in (
+        plots.mode_shapes,
+        plots.displacement_histories,
+        plots.contact_forces,
+        plots.energy,
+    ):
+        fig = make(analysis)
+        assert isinstance(fig, Figure) and fig.axes
+    fig = plots.force_penetration([("law", analysis)])
+    line = fig.axes[0].lines[0]
+    # the loop starts and ends open (zero force) and reaches the impact's sampled peak force
+    y = np.asarray(line.get_ydata())
+    assert y[0] == 0 and y[-1] == 0
+    assert y.max() == pytest.approx(float(analysis["contact_force"].max()) / 1e6)
+
+
+def test_amplification_plot_draws_the_median_over_records(study):
+    fig = plots.amplification(study, "displacement_amplification", x="gap")
+    ax = fig.axes[0]  # first building
+    lines = {ln.get_label(): ln for ln in ax.lines if ln.get_label() in ("hertz", "flores")}
+    expected = (
+        study["displacement_amplification"]
+        .sel(law="flores", building=study["building"].values[0])
+        .median("record")
+    )
+    np.testing.assert_allclose(lines["flores"].get_ydata(), expected.values)
+    assert ax.get_xlabel() == plots.label(study["gap"])
+
+
+def test_heatmap_cells_are_medians(study):
+    fig = plots.heatmap(study, "peak_contact_force", "gap", "law", scale=1e-6, fmt="{:.6g}")
+    texts = [float(t.get_text()) for t in fig.axes[0].texts]
+    expected = (
+        study["peak_contact_force"].max("contact").sel(law=["hertz", "flores"]).median("record")
+        * 1e-6
+    )
+    np.testing.assert_allclose(texts, expected.values.ravel(), rtol=1e-5)

@@ -1,0 +1,179 @@
+"""Reports: one self-contained HTML file that headless Chromium renders without console errors, a PDF
+with the same sections, escaped text, for an analysis and for a study."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import matplotlib.image as mpimg
+import numpy as np
+import pytest
+from test_studies import ROOT, _base, _small_study
+from typer.testing import CliRunner
+
+from pounding.case import case_from_dict
+from pounding.cli import app
+from pounding.report import build_report, write_report
+from pounding.results import save
+from pounding.simulate import simulate
+from pounding.studies import run_study
+
+HOSTILE = "<script>alert(1)</script>"
+ANALYSIS_SECTIONS = ("Model", "Ground motion", "Results")
+STUDY_SECTIONS = (
+    "Study",
+    "Model",
+    "Ground motions",
+    "Comparison of contact laws",
+    "Time histories",
+)
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+PDFTOTEXT = shutil.which("pdftotext")
+PDFTOPPM = shutil.which("pdftoppm")
+needs_chromium = pytest.mark.skipif(
+    CHROMIUM is None, reason="headless Chromium (Debian package chromium) is not installed"
+)
+needs_poppler = pytest.mark.skipif(
+    PDFTOTEXT is None or PDFTOPPM is None,
+    reason="pdftotext/pdftoppm (Debian package poppler-utils) are not installed",
+)
+
+
+@pytest.fixture(scope="module")
+def analysis_report(tmp_path_factory):
+    data = _base()
+    del data["study"]
+    data["building"][0]["name"] = HOSTILE
+    data["contact"][0]["left"] = HOSTILE
+    ds = simulate(case_from_dict(data))
+    out = tmp_path_factory.mktemp("analysis")
+    save(ds, out / "result.nc")
+    return ds, write_report(ds, out / "report")
+
+
+@pytest.fixture(scope="module")
+def study_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("study")
+    study = _small_study()
+    study = type(study)(**{**study.__dict__, "keep_histories": True})
+    ds = run_study(study, out / "results.runs", jobs=1)
+    save(ds, out / "results.nc")
+    return ds, write_report(ds, out / "report", result_path=out / "results.nc")
+
+
+def _html(paths):
+    return next(p for p in paths if p.suffix == ".html").read_text()
+
+
+def _pdf(paths):
+    return next(p for p in paths if p.suffix == ".pdf")
+
+
+@pytest.mark.parametrize("which", ["analysis_report", "study_report"])
+def test_html_is_self_contained(request, which):
+    _, paths = request.getfixturevalue(which)
+    html = _html(paths)
+    assert html.startswith("<!DOCTYPE html>")
+    assert "<script" not in html.lower()
+    # nothing is fetched: no src attributes, no stylesheet or link to another resource
+    assert not re.search(r"\ssrc\s*=", html)
+    assert not re.search(r"<link\b", html)
+    assert not re.search(r"url\(\s*['\"]?(https?:|//)", html)
+    assert html.count("<svg") >= 4
+
+
+def test_report_text_is_escaped(analysis_report):
+    _, paths = analysis_report
+    html = _html(paths)
+    assert HOSTILE not in html
+    assert "&lt;script&gt;alert(1)&lt;/script&gt;" in html
+
+
+def test_analysis_report_sections_and_restitution_table(analysis_report):
+    ds, _ = analysis_report
+    rep = build_report(ds)
+    assert [s.title for s in rep.sections] == list(ANALYSIS_SECTIONS)
+    model = rep.sections[0]
+    law_table = next(b for b in model.blocks if hasattr(b, "header") and "effective e" in b.header)
+    row = law_table.rows[0]
+    assert row[0].startswith("hertz") and row[3] == "1 (elastic)"
+    # Hertz is elastic: its effective restitution is 1
+    assert float(row[4]) == pytest.approx(1.0, abs=1e-3)
+
+
+def test_study_report_sections(study_report):
+    ds, _ = study_report
+    rep = build_report(ds)
+    assert [s.title for s in rep.sections] == list(STUDY_SECTIONS)
+
+
+def _chromium(html: Path, tmp_path: Path) -> tuple[np.ndarray, str]:
+    shot = tmp_path / "shot.png"
+    cmd = [
+        CHROMIUM,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--enable-logging=stderr",
+        "--v=0",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        f"--screenshot={shot}",
+        "--window-size=1200,2000",
+        html.resolve().as_uri(),
+    ]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert shot.is_file(), res.stderr[-2000:]
+    return mpimg.imread(shot), res.stderr
+
+
+@needs_chromium
+@pytest.mark.parametrize("which", ["analysis_report", "study_report"])
+def test_html_opens_in_headless_chromium(request, which, tmp_path):
+    _, paths = request.getfixturevalue(which)
+    image, log = _chromium(next(p for p in paths if p.suffix == ".html"), tmp_path)
+    console = [ln for ln in log.splitlines() if "CONSOLE" in ln or "Uncaught" in ln]
+    assert not console, console
+    # not blank: the rendered page has text and figures, so its pixels vary
+    assert image.std() > 0.05
+    assert (image[..., :3].mean(axis=-1) < 0.5).mean() > 0.005
+
+
+@needs_poppler
+@pytest.mark.parametrize(
+    ("which", "sections"),
+    [("analysis_report", ANALYSIS_SECTIONS), ("study_report", STUDY_SECTIONS)],
+)
+def test_pdf_has_the_sections_and_non_blank_pages(request, which, sections, tmp_path):
+    _, paths = request.getfixturevalue(which)
+    pdf = _pdf(paths)
+    text = subprocess.run([PDFTOTEXT, str(pdf), "-"], capture_output=True, text=True, check=True)
+    for n, title in enumerate(sections, 1):
+        assert f"{n}. {title}" in text.stdout, title
+    subprocess.run([PDFTOPPM, "-r", "20", "-png", str(pdf), str(tmp_path / "page")], check=True)
+    pages = sorted(tmp_path.glob("page*.png"))
+    assert len(pages) >= 4
+    for page in pages:
+        assert mpimg.imread(page).std() > 0.01, page.name
+
+
+def test_cli_report_writes_both_formats_and_rejects_bad_input(analysis_report, tmp_path):
+    runner = CliRunner()
+    result = next(p for p in analysis_report[1]).parent.parent / "result.nc"
+    res = runner.invoke(app, ["report", str(result), "-o", str(tmp_path / "r"), "--format", "html"])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "r" / "report.html").is_file()
+    assert not (tmp_path / "r" / "report.pdf").exists()
+    res = runner.invoke(app, ["report", str(result), "-o", str(tmp_path / "r"), "--format", "docx"])
+    assert res.exit_code == 2 and "allowed" in res.output
+    res = runner.invoke(app, ["report", str(tmp_path / "none.nc"), "-o", str(tmp_path / "r")])
+    assert res.exit_code == 2 and "no result file" in res.output
+    assert ROOT.is_dir()

@@ -1,0 +1,362 @@
+"""Studies: axes applied to the case, baselines and amplification, serial = processes = dask,
+interrupted studies resume without running anything twice, failures recorded, the CLI verb."""
+
+from __future__ import annotations
+
+import copy
+import json
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from pounding.case import case_from_dict
+from pounding.cli import app
+from pounding.results import open_result, save
+from pounding.simulate import simulate
+from pounding.studies import (
+    StudyError,
+    default_store,
+    histories,
+    load_study,
+    plan_study,
+    run_log,
+    run_study,
+    study_from_dict,
+)
+from pounding.units import G
+
+ROOT = Path(__file__).resolve().parents[1]
+
+PULSE = {"type": "sine_pulse", "amplitude": 0.5, "units": "g", "period": 0.5, "duration": 2.5}
+RICKER = {"type": "ricker", "amplitude": 0.4, "units": "g", "period": 0.4, "duration": 2.0}
+
+
+def _base(**study) -> dict:
+    """Two 2-story buildings and a Hertz contact at common floors: a few hundredths of a second
+    per run."""
+    return {
+        "title": "tiny study",
+        "building": [
+            {"name": "L", "n_floors": 2, "period": 0.3, "mass": 1e5},
+            {"name": "R", "n_floors": 2, "period": 0.6, "mass": 1e5},
+        ],
+        "contact": [{"left": "L", "right": "R", "gap": 0.01, "law": "hertz", "k": 2e9, "e": 0.6}],
+        "ground_motion": dict(PULSE),
+        "analysis": {"output_dt": 0.01},
+        "study": study,
+    }
+
+
+def _study(**study):
+    return study_from_dict(_base(**study), base_dir=ROOT)
+
+
+def _small_study():
+    return _study(law=["none", "hertz", "flores"], gap=[0.005, 0.02], record=[PULSE, RICKER])
+
+
+def _strip(ds: xr.Dataset) -> xr.Dataset:
+    ds = ds.copy()
+    for key in ("store", "created"):
+        ds.attrs.pop(key, None)
+    return ds
+
+
+def _direct(data: dict, ground: dict | None = None) -> xr.Dataset:
+    """One analysis run without the study machinery (the independent reference)."""
+    data = copy.deepcopy(data)
+    data.pop("study", None)
+    if ground is not None:
+        data["ground_motion"] = ground
+    return simulate(case_from_dict(data))
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory):
+    store = tmp_path_factory.mktemp("small") / "runs"
+    return run_study(_small_study(), store, jobs=1), store
+
+
+def test_study_has_a_dimension_per_axis_and_cf_attributes(small):
+    ds, _ = small
+    assert [d for d in ds["peak_displacement"].dims] == [
+        "law",
+        "gap",
+        "record",
+        "building",
+        "floor",
+    ]
+    assert list(ds["law"].values) == ["none", "hertz", "flores"]
+    assert ds["gap"].attrs["units"] == "m"
+    for name in (
+        "peak_displacement",
+        "peak_drift_ratio",
+        "peak_absolute_acceleration",
+        "peak_contact_force",
+        "impact_count",
+        "total_impulse",
+        "contact_dissipated_energy",
+        "energy_balance_error",
+        "displacement_amplification",
+    ):
+        assert {"units", "long_name"} <= set(ds[name].attrs), name
+    assert (ds["run_status"] == "ok").all()
+    # 2 laws x 2 gaps x 2 records + one no-contact run per record
+    assert ds.attrs["unique_runs"] == 10
+
+
+def test_combination_equals_a_direct_analysis(small):
+    ds, _ = small
+    # flores at gap 0.005 m on the Ricker pulse, run directly
+    data = _base()
+    data["contact"][0].update(law="flores", gap=0.005)
+    ref = _direct(data, RICKER)
+    got = ds.sel(law="flores", gap=0.005).isel(record=1)
+    np.testing.assert_allclose(got["peak_displacement"], ref["peak_displacement"], rtol=1e-12)
+    np.testing.assert_allclose(got["peak_contact_force"], ref["peak_contact_force"], rtol=1e-12)
+    assert int(got["impact_count"].sum()) == int(ref["impact_count"].sum()) > 0
+    impulse = ref.pounding.impacts().groupby("contact")["impulse"].sum()
+    np.testing.assert_allclose(
+        got["total_impulse"].values[impulse.index], impulse.to_numpy(), rtol=1e-12
+    )
+    final = ref["energy"].isel(time=-1)
+    np.testing.assert_allclose(
+        float(got["contact_dissipated_energy"]), float(final.sel(term="contact_dissipated"))
+    )
+
+
+def test_baseline_is_the_case_without_contacts_and_sets_the_amplification(small):
+    ds, _ = small
+    data = _base()
+    del data["contact"]
+    ref = _direct(data, PULSE)
+    base = ds.sel(law="none").isel(record=0)
+    for gap in ds["gap"].values:  # the baseline does not depend on contact axes
+        np.testing.assert_allclose(
+            base.sel(gap=gap)["peak_displacement"], ref["peak_displacement"], rtol=1e-12
+        )
+    np.testing.assert_allclose(ds["displacement_amplification"].sel(law="none"), 1.0)
+    hit = ds.sel(law="hertz", gap=0.005).isel(record=0)
+    expected = hit["peak_displacement"].max("floor") / ref["peak_displacement"].max("floor")
+    np.testing.assert_allclose(hit["displacement_amplification"], expected, rtol=1e-12)
+    assert float(hit["impact_count"].sum()) > 0
+
+
+def test_dotted_path_axis_sets_one_case_value(tmp_path):
+    # a bare dotted TOML key becomes nested tables; the study flattens it back to a path
+    text = (ROOT / "examples" / "two_sdof.toml").read_text()
+    case = tmp_path / "case.toml"
+    case.write_text(text + "\n[study]\nbuilding.1.damping.ratio = [0.02, 0.1]\n")
+    study = load_study(case)
+    assert list(study.axes) == ["building.1.damping.ratio", "record"]
+    ds = run_study(study, tmp_path / "runs", jobs=1)
+    import tomllib
+
+    data = tomllib.loads(text)
+    data["building"][1]["damping"] = {**data["building"][1].get("damping", {}), "ratio": 0.1}
+    data["analysis"] = data.get("analysis", {})
+    ref = simulate(case_from_dict(data, base_dir=case.parent))
+    got = ds.sel({"building.1.damping.ratio": 0.1}).isel(record=0)
+    np.testing.assert_allclose(got["peak_displacement"], ref["peak_displacement"], rtol=1e-12)
+    other = ds.sel({"building.1.damping.ratio": 0.02}).isel(record=0)
+    assert not np.allclose(other["peak_displacement"], got["peak_displacement"])
+    assert ds["building.1.damping.ratio"].attrs["units"] == "1"
+
+
+def test_switching_law_family_needs_its_k():
+    with pytest.raises(StudyError, match=r"law_params\.linear\] k"):
+        plan_study(_study(law=["hertz", "linear"]), "/nonexistent/store")
+    study = _study(law=["hertz", "linear"], law_params={"linear": {"k": 2e8}})
+    plan = plan_study(study, "/nonexistent/store")
+    lin = next(t for t in plan.tasks.values() if "'linear'" in t["label"])
+    assert lin["data"]["contact"][0]["k"] == 2e8
+    assert "e" not in lin["data"]["contact"][0]  # linear takes no e
+
+
+def test_parameters_a_law_ignores_do_not_multiply_runs():
+    plan = plan_study(_study(law=["hertz", "flores"], e=[0.5, 0.8]), "/nonexistent/store")
+    # hertz has no damping: e = 0.5 and 0.8 are one run; flores: two; plus the baseline
+    assert plan.keys[0, 0, 0] == plan.keys[0, 1, 0]
+    assert plan.keys[1, 0, 0] != plan.keys[1, 1, 0]
+    assert len(plan.tasks) == 4
+
+
+def test_every_combination_is_validated_before_anything_runs(tmp_path):
+    study = _study(law=["hertz", "bilinear"], gap=[0.01])
+    with pytest.raises(
+        StudyError, match=r"law='bilinear'.*needs delta_m.*\[study\.law_params\.bilinear\]"
+    ):
+        run_study(study, tmp_path / "runs")
+    assert not (tmp_path / "runs").exists()
+    with pytest.raises(StudyError, match="allowed: a non-empty list"):
+        _study(gap=0.01)
+    with pytest.raises(StudyError, match="unknown contact law 'hretz'"):
+        _study(law=["hretz"])
+    with pytest.raises(StudyError, match="the case has no 'building.1.dampng'"):
+        _study(**{"building": {"1": {"dampng": {"ratio": [0.1, 0.2]}}}})
+
+
+def test_failed_runs_are_recorded_and_do_not_stop_the_others(tmp_path):
+    data = _base(**{"analysis.max_iter": [25, 1], "record": [PULSE, "missing/record.txt"]})
+    data["analysis"]["max_halvings"] = 0
+    ds = run_study(study_from_dict(data, base_dir=tmp_path), tmp_path / "runs", jobs=1)
+    status = ds["run_status"].isel(record=0)
+    assert list(status.values) == ["ok", "failed"]
+    assert "ConvergenceError" in str(ds["run_error"].isel(record=0).values[1])
+    assert (ds["run_status"].isel(record=1) == "failed").all()
+    assert "missing/record.txt" in str(ds["run_error"].isel(record=1).values[0])
+    assert np.isnan(ds["peak_displacement"].isel(record=0)[1]).all()
+    assert np.isfinite(ds["peak_displacement"].isel(record=0)[0]).all()
+    # a rerun does not try the failed run again unless asked to
+    n = len(run_log(tmp_path / "runs"))
+    run_study(study_from_dict(data, base_dir=tmp_path), tmp_path / "runs", jobs=1)
+    assert len(run_log(tmp_path / "runs")) == n
+    run_study(
+        study_from_dict(data, base_dir=tmp_path), tmp_path / "runs", jobs=1, retry_failed=True
+    )
+    assert len(run_log(tmp_path / "runs")) == n + 1
+
+
+def test_serial_processes_and_dask_give_identical_datasets(small, tmp_path):
+    serial, _ = small
+    calls = []
+    procs = run_study(
+        _small_study(), tmp_path / "procs", jobs=2, progress=lambda *a: calls.append(a)
+    )
+    xr.testing.assert_identical(_strip(serial), _strip(procs))
+    assert calls[0] == (0, 10, 0) and calls[-1] == (10, 10, 0)
+    distributed = pytest.importorskip("distributed", reason="dask.distributed not installed")
+    with distributed.LocalCluster(
+        n_workers=1,
+        threads_per_worker=2,
+        processes=False,
+        protocol="tcp",
+        host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster:
+        dask = run_study(_small_study(), tmp_path / "dask", scheduler=cluster.scheduler_address)
+    xr.testing.assert_identical(_strip(serial), _strip(dask))
+
+
+def test_rerun_runs_nothing_and_result_round_trips(small, tmp_path):
+    ds, store = small
+    n = len(run_log(store))
+    again = run_study(_small_study(), store, jobs=1)
+    assert len(run_log(store)) == n
+    xr.testing.assert_identical(_strip(ds), _strip(again))
+    path = save(ds, tmp_path / "study.nc")
+    xr.testing.assert_identical(ds, open_result(path))
+
+
+def test_kept_histories_are_the_decimated_analysis(tmp_path):
+    study = _study(law=["hertz"], gap=[0.005], keep_histories=True, history_dt=0.02)
+    ds = run_study(study, tmp_path / "runs", jobs=1)
+    hist = histories(ds, law="hertz", gap=0.005, record=ds["record"].values[0])
+    data = _base()
+    data["contact"][0]["gap"] = 0.005
+    ref = _direct(data)
+    u = ref["displacement"].isel(time=slice(None, None, 2))
+    np.testing.assert_allclose(hist["time"], u["time"])
+    np.testing.assert_allclose(hist["displacement"], u, rtol=1e-6, atol=1e-9)  # float32
+    assert hist.attrs["history_dt"] == pytest.approx(0.02)
+
+
+_CLI = "import sys; from pounding.cli import main; sys.argv[0] = 'pounding'; main()"
+
+
+def _slow_case(tmp_path: Path) -> Path:
+    """24 combinations, 19 runs of about 0.2 s each (a fixed small dt): time to interrupt."""
+    data = _base()
+    lines = [
+        'title = "interrupt me"',
+        'ground_motion = { type = "sine_pulse", amplitude = 0.5, units = "g", period = 0.5, '
+        "duration = 2.5 }",
+        "analysis = { output_dt = 0.01, dt = 2e-5 }",
+    ]
+    for b in data["building"]:
+        lines += ["[[building]]", *(f"{k} = {json.dumps(v)}" for k, v in b.items())]
+    lines += ["[[contact]]", *(f"{k} = {json.dumps(v)}" for k, v in data["contact"][0].items())]
+    lines += [
+        "[study]",
+        'law = ["none", "hertz", "flores", "kelvin_approach"]',
+        "gap = [0.002, 0.005, 0.01, 0.02, 0.03, 0.04]",
+        "[study.law_params.kelvin_approach]",
+        "k = 2e8",
+    ]
+    path = tmp_path / "slow.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.fixture(scope="module")
+def slow(tmp_path_factory):
+    """The slow study's case file and its result run without interruption."""
+    tmp = tmp_path_factory.mktemp("slow")
+    case = _slow_case(tmp)
+    return case, run_study(load_study(case), tmp / "fresh", jobs=1)
+
+
+@pytest.mark.parametrize(("sig", "jobs"), [(signal.SIGTERM, "1"), (signal.SIGINT, "2")])
+def test_interrupted_study_resumes_without_running_anything_twice(slow, tmp_path, sig, jobs):
+    case, fresh = slow
+    out = tmp_path / "out.nc"
+    store = default_store(out)
+    cmd = [sys.executable, "-c", _CLI, "study", str(case), "-o", str(out), "--jobs", jobs]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 120
+    while len(run_log(store)) < 3 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    done = run_log(store)
+    total = len(plan_study(load_study(case), store).tasks)
+    assert proc.returncode == 130, err.decode()
+    assert "interrupted" in err.decode() and "Traceback" not in err.decode()
+    assert 3 <= len(done) < total
+    assert not out.exists()
+    # the rerun completes, runs only what was missing, and equals an uninterrupted run
+    resumed = run_study(load_study(case), store, jobs=1)
+    keys = [e["key"] for e in run_log(store)]
+    assert len(keys) == len(set(keys)) == total
+    xr.testing.assert_identical(_strip(resumed), _strip(fresh))
+
+
+runner = CliRunner()
+
+
+def test_cli_study_prints_amplification_and_writes_the_dataset(tmp_path):
+    case = tmp_path / "study.toml"
+    case.write_text(
+        (ROOT / "examples" / "two_sdof.toml").read_text()
+        + '\n[study]\nlaw = ["none", "hunt_crossley", "hertz"]\ngap = [0.005, 0.02]\n'
+    )
+    out = tmp_path / "s.nc"
+    res = runner.invoke(app, ["study", str(case), "-o", str(out), "--jobs", "1"])
+    assert res.exit_code == 0, res.output
+    assert "median displacement amplification" in res.output
+    assert "already stored" in res.output
+    ds = open_result(out)
+    assert ds.attrs["pounding_kind"] == "study" and ds.sizes["law"] == 3
+    bad = tmp_path / "bad.toml"
+    bad.write_text(case.read_text().replace('"hertz"]', '"hertz", "bilinear"]'))
+    res = runner.invoke(app, ["study", str(bad), "-o", str(out)])
+    assert res.exit_code == 2
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "delta_m" in lines[0]
+
+
+def test_demo_study_file_is_valid():
+    study = load_study(ROOT / "examples" / "demo_study.toml")
+    laws = [law for law in study.axes["law"] if law != "none"]
+    assert len(laws) >= 5 and len(study.axes["gap"]) >= 3 and len(study.axes["record"]) >= 2
+    plan = plan_study(study, "/nonexistent/store")
+    assert len(plan.tasks) == len(laws) * len(study.axes["gap"]) * 2 + 2
+    pga = [r.motion.pga / G for r in study.axes["record"]]
+    assert all(0.2 < p < 0.5 for p in pga)
