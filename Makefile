@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint clean
+.PHONY: demo test test-setup lint clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -13,9 +13,17 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/pounding run examples/three_vs_eight_story.toml -o reports/demo/results.nc
+	$(BIN)/pounding study examples/demo_study.toml -o reports/demo/results.nc
+	$(BIN)/pounding report reports/demo/results.nc -o reports/demo
 
-test: $(STAMP)
+# The report tests open the HTML in headless Chromium and read the PDF with poppler-utils (Debian
+# packages chromium, poppler-utils); installed here when missing and apt-get is usable (root).
+test-setup:
+	@command -v chromium >/dev/null && command -v pdftotext >/dev/null && command -v pdftoppm >/dev/null \
+	  || (apt-get update && apt-get install -y chromium poppler-utils) \
+	  || echo "warning: could not install chromium and poppler-utils; the report tests that need them will be skipped"
+
+test: $(STAMP) test-setup
 	$(BIN)/python -m pytest -q
 
 lint: $(STAMP)

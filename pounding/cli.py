@@ -329,6 +329,7 @@ class _ProgressBar:
         self._clock = time.monotonic
         self.start = self._clock()
         self.last = -1e9
+        self.first: tuple[float, int] | None = None
         self.width = width
         self.every = every
         self.tty = sys.stderr.isatty()
@@ -342,11 +343,15 @@ class _ProgressBar:
 
     def __call__(self, done: int, total: int, failed: int) -> None:
         now = self._clock()
+        if done and self.first is None:
+            self.first = (now, done)
         if total == 0 or (0 < done < total and now - self.last < (0.2 if self.tty else self.every)):
             return
         self.last = now
         elapsed = now - self.start
-        rate = done / elapsed if done and elapsed > 0 else 0.0
+        # the rate counts from the first finished run: the first one also compiles the kernels
+        t0, d0 = self.first or (now, done)
+        rate = (done - d0) / (now - t0) if done > d0 and now > t0 else 0.0
         eta = (total - done) / rate if rate else float("nan")
         filled = int(self.width * done / total)
         line = (

@@ -1116,7 +1116,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         [study.case.system.buildings[i].n_floors for i in range(len(buildings))]
         + [r.sizes["floor"] for r in ok]
     )
-    n_contact = max([r.sizes["contact"] for r in ok], default=len(study.case.system.elements))
+    n_contact = max([len(study.case.system.elements)] + [r.sizes["contact"] for r in ok])
     sizes = {"building": len(buildings), "floor": width, "story": width, "contact": n_contact}
 
     def gather(name: str, keys_array: np.ndarray) -> np.ndarray:

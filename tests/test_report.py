@@ -177,3 +177,16 @@ def test_cli_report_writes_both_formats_and_rejects_bad_input(analysis_report, t
     res = runner.invoke(app, ["report", str(tmp_path / "none.nc"), "-o", str(tmp_path / "r")])
     assert res.exit_code == 2 and "no result file" in res.output
     assert ROOT.is_dir()
+
+
+def test_report_of_a_study_whose_contact_runs_all_failed(tmp_path):
+    from pounding.studies import study_from_dict
+
+    data = _base(law=["none", "hertz"], gap=[0.005])
+    data["analysis"].update(max_iter=1, max_halvings=0)  # Newton cannot converge at an impact
+    ds = run_study(study_from_dict(data), tmp_path / "runs", jobs=1)
+    assert list(ds["run_status"].values.ravel()) == ["ok", "failed"]
+    rep = build_report(ds)
+    html = _html(write_report(ds, tmp_path / "report", formats=["html"]))
+    assert "ConvergenceError" in html
+    assert [s.title for s in rep.sections][:2] == ["Study", "Model"]

@@ -360,3 +360,21 @@ def test_demo_study_file_is_valid():
     assert len(plan.tasks) == len(laws) * len(study.axes["gap"]) * 2 + 2
     pga = [r.motion.pga / G for r in study.axes["record"]]
     assert all(0.2 < p < 0.5 for p in pga)
+
+
+def test_progress_bar_counts_rate_from_the_first_finished_run(capsys):
+    from pounding.cli import _ProgressBar
+
+    now = [0.0]
+    bar = _ProgressBar(every=0.0)
+    bar._clock = lambda: now[0]
+    bar.start = 0.0
+    bar(0, 10, 0)
+    now[0] = 30.0  # the first run also compiled the kernels
+    bar(1, 10, 0)
+    now[0] = 34.0  # then 4 runs in 4 s: 1 run/s, 5 left
+    bar(5, 10, 1)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0].startswith("[----") and "0/10 runs" in lines[0]
+    assert "ETA ?" in lines[1]
+    assert "5/10 runs, 1.00 runs/s, elapsed 34s, ETA 5s, 1 failed" in lines[2]
