@@ -69,7 +69,7 @@ from pounding._version import __version__
 from pounding.case import Case, CaseError, case_from_dict
 from pounding.contact.laws import get_contact_law
 from pounding.ground_motion import GroundMotion
-from pounding.results import ATTRS, save
+from pounding.results import ATTRS
 from pounding.simulate import simulate
 
 #: Axes with a meaning of their own; any other axis is a dotted path into the case.
@@ -334,6 +334,11 @@ def study_from_dict(
             f"{source}: [study] has no axes; give at least one of {', '.join(NAMED_AXES)} "
             "or a dotted path such as contact.0.k"
         )
+    if law_params and "law" not in axes:
+        raise StudyError(
+            f"{source}: study.law_params apply when the law axis sets a law; add study.law "
+            "(or set the parameters in the [[contact]] tables)"
+        )
     if "law" in axes:
         axes["law"] = tuple(_law_name(v, source) for v in axes["law"])
         _axis_values("law", list(axes["law"]), source)  # aliases may collide
@@ -341,9 +346,14 @@ def study_from_dict(
         if "k" in axes and len(families) > 1:
             raise StudyError(
                 f"{source}: study.k sets one k for laws whose k has different units (N/m for "
-                "the linear family, N/m^n for the Hertz family); sweep k with laws of one family, "
-                "or give each law its k in [study.law_params.LAW]"
+                "the linear family, N/m^n for the Hertz family); sweep k with laws of one family "
+                "(or drop study.k and give each law its k in [study.law_params.LAW])"
             )
+    unused = sorted(set(law_params) - set(axes.get("law", ())))
+    if unused:
+        raise StudyError(
+            f"{source}: study.law_params.{unused[0]}: law {unused[0]!r} is not on the law axis"
+        )
     _check_number("gap", axes.get("gap", ()), source, 0.0, "a number >= 0 [m]")
     _check_number("e", axes.get("e", ()), source, 0.0, "0 < e <= 1")
     if any(v > 1 for v in axes.get("e", ())):
@@ -933,6 +943,12 @@ def run_study(
     xarray.Dataset
         See :func:`assemble`. A KeyboardInterrupt stops the workers and propagates; finished runs
         are stored and a rerun resumes.
+
+    Notes
+    -----
+    Local workers are started with the ``forkserver`` (or ``spawn``) method, never ``fork``, which is
+    unsafe with numba's and BLAS's threads; a script that calls this with ``jobs > 1`` must do so
+    under ``if __name__ == "__main__":``.
     """
     if isinstance(study, StudyPlan):
         plan = study
@@ -1226,11 +1242,6 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         Conventions="CF-1.8",
     )
     return ds
-
-
-def save_study(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write a study Dataset to NetCDF (:func:`pounding.results.save`)."""
-    return save(ds, path)
 
 
 def histories(ds: xr.Dataset, store: str | Path | None = None, **selection: Any) -> xr.Dataset:

@@ -3,6 +3,7 @@ with the same sections, escaped text, for an analysis and for a study."""
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import shutil
 import subprocess
@@ -59,7 +60,7 @@ def analysis_report(tmp_path_factory):
 def study_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("study")
     study = _small_study()
-    study = type(study)(**{**study.__dict__, "keep_histories": True})
+    study = dataclasses.replace(study, keep_histories=True)
     ds = run_study(study, out / "results.runs", jobs=1)
     save(ds, out / "results.nc")
     return ds, write_report(ds, out / "report", result_path=out / "results.nc")

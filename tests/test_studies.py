@@ -378,3 +378,33 @@ def test_progress_bar_counts_rate_from_the_first_finished_run(capsys):
     assert lines[0].startswith("[----") and "0/10 runs" in lines[0]
     assert "ETA ?" in lines[1]
     assert "5/10 runs, 1.00 runs/s, elapsed 34s, ETA 5s, 1 failed" in lines[2]
+
+
+def test_scale_axis_scales_the_record_and_the_linear_baseline_exactly(tmp_path):
+    # without contact the model is linear: the peaks scale with the record (superposition)
+    ds = run_study(_study(law=["hertz"], gap=[0.01], scale=[0.5, 1.0]), tmp_path / "runs", jobs=1)
+    base = ds["no_contact_peak_displacement"].squeeze(["law", "gap", "record"])
+    np.testing.assert_allclose(base.sel(scale=0.5), 0.5 * base.sel(scale=1.0), rtol=1e-9)
+    # with contact it is not: the weaker record closes the gap less often
+    hits = ds["impact_count"].sum("contact").squeeze()
+    assert hits.sel(scale=0.5) < hits.sel(scale=1.0)
+    assert ds["scale"].attrs["units"] == "1"
+
+
+def test_a_suite_reference_gives_one_record_per_member():
+    study = _study(law=["hertz"], record=["ground-motions:", PULSE])
+    names = [r.name for r in study.axes["record"]]
+    assert len(names) == 4 == len(set(names))
+    refs = [r.reference for r in study.axes["record"][:3]]
+    assert all(ref.startswith("ground-motions:") or ref.endswith(".txt") for ref in refs)
+
+
+def test_k_axis_refuses_laws_with_different_units():
+    with pytest.raises(StudyError, match="different units"):
+        _study(law=["linear", "hertz"], k=[1e9, 2e9])
+    with pytest.raises(StudyError, match="0 < e <= 1"):
+        _study(e=[0.5, 1.5])
+    with pytest.raises(StudyError, match="law 'linear' is not on the law axis"):
+        _study(law=["hertz"], law_params={"linear": {"k": 1e8}})
+    with pytest.raises(StudyError, match="unknown key.*kk"):
+        _study(law=["linear"], law_params={"linear": {"kk": 1e8}})
