@@ -269,7 +269,12 @@ def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = ""
     """
     fig, axes = _figure(3.6)
     ax = axes[0, 0]
+    labels = ("penetration [mm]", "contact force [MN]")
     for text, ds in runs:
+        labels = (
+            label(ds["penetration"], "penetration", units="mm"),
+            label(ds["contact_force"], units="MN"),
+        )
         found = _largest_impact(ds)
         if found is None:
             continue
@@ -285,8 +290,8 @@ def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = ""
             lw=1.0,
             label=f"{text} (contact {c}, t = {t0:.2f} s)",
         )
-    ax.set_xlabel("penetration [mm]")
-    ax.set_ylabel("contact force [MN]")
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
     ax.set_xlim(left=0.0)
     ax.set_ylim(bottom=0.0)
     ax.grid(True, alpha=0.3)
@@ -423,8 +428,10 @@ def study_histories(runs: Sequence[tuple[str, xr.Dataset]], building: str) -> Fi
     for text, ds in runs:
         n = _n_floors(ds, building) if "floor_elevation" in ds else ds.sizes["floor"]
         ax.plot(ds["time"], ds["displacement"].sel(building=building, floor=n), lw=0.8, label=text)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel(f"roof displacement of {building} [m]")
+    if runs:
+        ds = runs[0][1]
+        ax.set_xlabel(label(ds["time"]))
+        ax.set_ylabel(label(ds["displacement"], f"roof displacement of {building}"))
     ax.legend(fontsize="x-small", ncol=2)
     ax.grid(True, alpha=0.3)
     return fig

@@ -60,6 +60,7 @@ def test_analysis_figures_build(analysis):
     y = np.asarray(line.get_ydata())
     assert y[0] == 0 and y[-1] == 0
     assert y.max() == pytest.approx(float(analysis["contact_force"].max()) / 1e6)
+    assert fig.axes[0].get_ylabel() == "contact force [MN]"  # long_name from the attrs
 
 
 def test_amplification_plot_draws_the_median_over_records(study):
