@@ -278,6 +278,7 @@ def read_text(
     rows: list[list[float]] = []
     row_lines: list[int] = []
     header_seen = False
+    processing: list[str] = []
     for k, text in enumerate(lines, start=1):
         stripped = text.strip()
         if not stripped:
@@ -287,6 +288,9 @@ def read_text(
             if m:
                 key = m.group(1).lower().rstrip("s") if m.group(1).lower() != "dt" else "dt"
                 directives[key] = (m.group(2), k)
+            elif stripped.lstrip("#").strip().lower().startswith("processing:"):
+                # the processing chain written by write_text, one step per line, in order
+                processing.append(stripped.lstrip("#").strip()[len("processing:") :].strip())
             continue
         try:
             row = _numbers(stripped, path, k)
@@ -376,6 +380,8 @@ def read_text(
     }
     if start_time:
         meta["start_time"] = start_time
+    if processing:
+        meta["processing"] = processing
     name = directives["name"][0] if "name" in directives else path.stem
     return GroundMotion(acc * factor, step, name=name, metadata=meta)
 

@@ -194,7 +194,10 @@ def test_text_writer_header_and_units(tmp_path):
     write_record(gm, tmp_path / "w.txt", units="cm/s2")
     text = (tmp_path / "w.txt").read_text()
     assert "# units: cm/s2" in text and "# processing: scaled by 2" in text
-    assert read_record(tmp_path / "w.txt").acceleration[2] == pytest.approx(-2.0)
+    back = read_record(tmp_path / "w.txt")
+    assert back.acceleration[2] == pytest.approx(-2.0)
+    # the processing chain travels with the file, so reports of a study can list it
+    assert back.metadata["processing"] == ["scaled by 2"]
     with pytest.raises(ValueError, match="cannot be written"):
         write_record(gm, tmp_path / "w.V2c", format="cosmos")
 
