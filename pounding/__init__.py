@@ -14,7 +14,24 @@ from pounding.integrators.base import ConvergenceError
 from pounding.results import open_result, save
 from pounding.simulate import AnalysisOptions, simulate
 from pounding.structure import ModalDamping, RayleighDamping, ShearBuilding
+from pounding.studies import Study, StudyError, load_study, run_study
 from pounding.system import Contact, PoundingSystem, assemble
+
+# Heavier layers (scipy.stats, matplotlib) load on first use, so `import pounding` stays quick.
+_LAZY = {
+    "separation_analysis": "pounding.separation",
+    "load_separation_case": "pounding.separation",
+    "write_report": "pounding.report",
+}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'pounding' has no attribute {name!r}")
+
 
 __all__ = [
     "CONTACT_LAWS",
@@ -29,6 +46,8 @@ __all__ = [
     "PoundingSystem",
     "RayleighDamping",
     "ShearBuilding",
+    "Study",
+    "StudyError",
     "__version__",
     "assemble",
     "contact_parameters",
@@ -36,9 +55,14 @@ __all__ = [
     "get_contact_law",
     "harmonic",
     "load_case",
+    "load_separation_case",
+    "load_study",
     "open_result",
     "ricker",
+    "run_study",
     "save",
+    "separation_analysis",
     "simulate",
     "sine_pulse",
+    "write_report",
 ]

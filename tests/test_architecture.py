@@ -34,3 +34,10 @@ def _imports(path: Path) -> set[str]:
 def test_numba_is_imported_only_by_the_kernels_module():
     users = {p.name for p in (ROOT / "pounding").rglob("*.py") if "numba" in _imports(p)}
     assert users == {"_kernels.py"}
+
+
+def test_every_public_name_resolves():
+    import pounding
+
+    missing = [name for name in pounding.__all__ if getattr(pounding, name, None) is None]
+    assert missing == []
