@@ -16,7 +16,7 @@ from typing import Any
 from pounding import records
 from pounding.ground_motion import ANALYTIC_MOTIONS, GroundMotion, analytic
 from pounding.simulate import AnalysisOptions
-from pounding.structure import ModalDamping, RayleighDamping, ShearBuilding
+from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
 from pounding.system import Contact, PoundingSystem, assemble
 from pounding.units import acceleration_factor
 
@@ -30,6 +30,7 @@ _BUILDING_KEYS = (
     "period",
     "mass",
     "height",
+    "base",
 )
 _CONTACT_KEYS = tuple(f.name for f in dataclasses.fields(Contact))
 _ANALYTIC_KEYS = ("type", "amplitude", "units", "period", "duration", "dt", "cycles", "t0", "scale")
@@ -89,11 +90,30 @@ def _damping(spec: Any, where: str) -> RayleighDamping | ModalDamping:
     )
 
 
+def _base(spec: Any, where: str) -> IsolationBase | None:
+    """The ``base = { type = ..., mass = ..., friction = ..., ... }`` table of a building."""
+    if spec is None:
+        return None
+    if not isinstance(spec, Mapping):
+        raise CaseError(
+            f'{where}.base must be a table, e.g. {{ type = "friction_pendulum", radius = 2.2, '
+            f'friction = "coulomb", mu_s = 0.06, mu_d = 0.05, mass = 5e5 }}'
+        )
+    if "mass" not in spec:
+        raise CaseError(f"{where}.base.mass [kg] (mass of the base slab) is required")
+    try:
+        return IsolationBase(**dict(spec))
+    except (ValueError, TypeError) as exc:
+        message = str(exc).removeprefix("base: ")
+        raise CaseError(f"{where}.base: {message}") from None
+
+
 def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
     _check_keys(spec, _BUILDING_KEYS, where)
     if "name" not in spec:
         raise CaseError(f"{where}.name is required")
     damping = _damping(spec.get("damping"), where)
+    base = _base(spec.get("base"), where)
     uniform = [k for k in ("n_floors", "period", "mass") if k in spec]
     if uniform:
         missing = [k for k in ("n_floors", "period", "mass") if k not in spec]
@@ -109,6 +129,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
             mass=float(spec["mass"]),
             height=float(spec.get("height", 3.0)),
             damping=damping,
+            base=base,
         )
     for key in ("masses", "stiffnesses"):
         if key not in spec:
@@ -121,6 +142,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
         stiffnesses=spec["stiffnesses"],
         heights=spec.get("heights"),
         damping=damping,
+        base=base,
     )
 
 

@@ -3,6 +3,11 @@
 Dimensions: ``time``, ``building``, ``floor`` (1..N, NaN-padded where a building is shorter),
 ``story``, ``contact`` (gap elements 0..C−1), ``term`` (energy ledger), ``mode``, ``impact``.
 Derived quantities live on the ``ds.pounding`` accessor (:class:`PoundingAccessor`).
+
+Isolated buildings (base slab on sliding bearings) add, per building, ``base_displacement``,
+``base_velocity``, ``friction_force``, ``stick`` (time, building) and ``peak_base_displacement``
+(building), NaN for fixed-base buildings; the base slab is not a floor (floors stay 1..N, story 1
+drifts relative to the slab). The energy ledger has the term ``friction_dissipated``.
 """
 
 from __future__ import annotations
@@ -39,8 +44,8 @@ ATTRS: dict[str, dict[str, str]] = {
     "mode_shape": {"units": "1", "long_name": "mode shape (roof = 1)"},
     "contact_left": {"long_name": "left end of gap element (building or wall)"},
     "contact_right": {"long_name": "right end of gap element (building or wall)"},
-    "contact_left_floor": {"long_name": "floor of the left end (0 = wall)"},
-    "contact_right_floor": {"long_name": "floor of the right end (0 = wall)"},
+    "contact_left_floor": {"long_name": "floor of the left end (0 = wall or base slab)"},
+    "contact_right_floor": {"long_name": "floor of the right end (0 = wall or base slab)"},
     "contact_gap": {"units": "m", "long_name": "initial gap"},
     "contact_law": {"long_name": "contact law"},
     "contact_k": {"units": "N/m^n", "long_name": "contact stiffness"},
@@ -73,6 +78,28 @@ ATTRS: dict[str, dict[str, str]] = {
     "impact_peak_force": {"units": "N", "long_name": "peak force of the impact"},
     "impact_max_penetration": {"units": "m", "long_name": "maximum penetration of the impact"},
     "impact_impulse": {"units": "N s", "long_name": "impulse of the impact"},
+    "base_type": {"long_name": "base: fixed, flat (slider) or friction_pendulum"},
+    "friction_law": {"long_name": "friction law of the isolation bearings"},
+    "base_mass": {"units": "kg", "long_name": "mass of the base slab"},
+    "base_radius": {"units": "m", "long_name": "radius of the friction pendulum surface"},
+    "base_normal_force": {"units": "N", "long_name": "normal force on the bearings (weight W)"},
+    "base_displacement": {
+        "units": "m",
+        "long_name": "base slab (bearing) displacement relative to ground",
+    },
+    "base_velocity": {
+        "units": "m/s",
+        "long_name": "base slab (bearing) velocity relative to ground",
+    },
+    "friction_force": {
+        "units": "N",
+        "long_name": "bearing friction force (resisting; reaction while stuck)",
+    },
+    "stick": {"units": "1", "long_name": "bearings stuck (1) or sliding (0)"},
+    "peak_base_displacement": {
+        "units": "m",
+        "long_name": "peak absolute base slab (bearing) displacement",
+    },
 }
 
 
@@ -126,37 +153,40 @@ def build_dataset(
     for i, s in enumerate(shapes):
         mode_shape[i, : s.shape[0], : s.shape[1]] = s
     group = [system.contacts[g] for g in el.group]
-    d: dict[str, tuple] = {
-        "displacement": (("time", "building", "floor"), u),
-        "velocity": (("time", "building", "floor"), per_building(raw.velocity)),
-        "absolute_acceleration": (("time", "building", "floor"), a_abs),
-        "drift": (("time", "building", "story"), drift),
-        "drift_ratio": (("time", "building", "story"), drift / heights),
-        "penetration": (("time", "contact"), raw.penetration.reshape(nt, n_el)),
-        "contact_force": (("time", "contact"), raw.contact_force.reshape(nt, n_el)),
-        "ground_acceleration": (("time",), raw.ground_acceleration),
-        "energy": (("time", "term"), raw.energy),
-        "peak_displacement": (("building", "floor"), per_building(raw.peak_displacement)),
-        "peak_drift_ratio": (("building", "story"), per_building(raw.peak_drift) / heights),
-        "peak_absolute_acceleration": (
-            ("building", "floor"),
-            per_building(raw.peak_absolute_acceleration),
-        ),
-        "peak_contact_force": (("contact",), raw.peak_contact_force),
-        "peak_penetration": (("contact",), raw.peak_penetration),
-        "impact_count": (
-            ("contact",),
-            np.bincount(raw.impacts["element"], minlength=n_el).astype(np.int64)[:n_el],
-        ),
-        "floor_mass": (("building", "floor"), _padded([b.masses for b in bl], width)),
-        "story_stiffness": (("building", "story"), _padded([b.stiffnesses for b in bl], width)),
-        "natural_period": (("building", "mode"), _padded([m.periods for m in modes], width)),
-        "effective_modal_mass": (
-            ("building", "mode"),
-            _padded([m.effective_masses for m in modes], width),
-        ),
-        "mode_shape": (("building", "floor", "mode"), mode_shape),
-    }
+    d: dict[str, tuple] = {**_isolation_variables(system, raw)}
+    d.update(
+        {
+            "displacement": (("time", "building", "floor"), u),
+            "velocity": (("time", "building", "floor"), per_building(raw.velocity)),
+            "absolute_acceleration": (("time", "building", "floor"), a_abs),
+            "drift": (("time", "building", "story"), drift),
+            "drift_ratio": (("time", "building", "story"), drift / heights),
+            "penetration": (("time", "contact"), raw.penetration.reshape(nt, n_el)),
+            "contact_force": (("time", "contact"), raw.contact_force.reshape(nt, n_el)),
+            "ground_acceleration": (("time",), raw.ground_acceleration),
+            "energy": (("time", "term"), raw.energy),
+            "peak_displacement": (("building", "floor"), per_building(raw.peak_displacement)),
+            "peak_drift_ratio": (("building", "story"), per_building(raw.peak_drift) / heights),
+            "peak_absolute_acceleration": (
+                ("building", "floor"),
+                per_building(raw.peak_absolute_acceleration),
+            ),
+            "peak_contact_force": (("contact",), raw.peak_contact_force),
+            "peak_penetration": (("contact",), raw.peak_penetration),
+            "impact_count": (
+                ("contact",),
+                np.bincount(raw.impacts["element"], minlength=n_el).astype(np.int64)[:n_el],
+            ),
+            "floor_mass": (("building", "floor"), _padded([b.masses for b in bl], width)),
+            "story_stiffness": (("building", "story"), _padded([b.stiffnesses for b in bl], width)),
+            "natural_period": (("building", "mode"), _padded([m.periods for m in modes], width)),
+            "effective_modal_mass": (
+                ("building", "mode"),
+                _padded([m.effective_masses for m in modes], width),
+            ),
+            "mode_shape": (("building", "floor", "mode"), mode_shape),
+        }
+    )
     imp = raw.impacts
     for name in ("start", "end", "v0", "v_end", "peak_force", "max_penetration", "impulse"):
         d[f"impact_{name}"] = (("impact",), np.asarray(imp[name], dtype=float))
@@ -188,6 +218,14 @@ def build_dataset(
             np.array([np.nan if c.e is None else float(c.e) for c in group]),
         ),
         "contact_effective_mass": (("contact",), el.el_mass),
+        "base_type": (
+            ("building",),
+            np.array([b.base.type if b.base is not None else "fixed" for b in bl], dtype=str),
+        ),
+        "friction_law": (
+            ("building",),
+            np.array([b.base.friction if b.base is not None else "none" for b in bl], dtype=str),
+        ),
     }
     ds = xr.Dataset(d, coords=coords)
     for name, attrs in ATTRS.items():
@@ -204,6 +242,38 @@ def build_dataset(
     for key, value in (provenance or {}).items():
         ds.attrs[key] = _attr_value(value)
     return ds
+
+
+def _isolation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tuple]:
+    """Base slab and bearing variables per building (NaN for fixed-base buildings)."""
+    bl = system.buildings
+    nt = raw.time.size
+    base = np.asarray(system.base_dof)
+    iso = base >= 0
+    out = {}
+    for name, arr in (("base_displacement", raw.displacement), ("base_velocity", raw.velocity)):
+        values = np.full((nt, len(bl)), np.nan)
+        values[:, iso] = arr[:, base[iso]]
+        out[name] = (("time", "building"), values)
+    force = np.full((nt, len(bl)), np.nan)
+    stick = np.full((nt, len(bl)), np.nan)
+    fr = system.friction
+    if len(fr):
+        force[:, fr.building] = raw.friction_force
+        stick[:, fr.building] = raw.stick
+    out["friction_force"] = (("time", "building"), force)
+    out["stick"] = (("time", "building"), stick)
+    peak = np.full(len(bl), np.nan)
+    peak[iso] = np.asarray(raw.peak_displacement)[base[iso]]
+    out["peak_base_displacement"] = (("building",), peak)
+    nan = np.nan
+    out["base_mass"] = (("building",), np.array([b.base.mass if b.base else nan for b in bl]))
+    out["base_radius"] = (
+        ("building",),
+        np.array([b.base.radius if b.base and b.base.radius else nan for b in bl], dtype=float),
+    )
+    out["base_normal_force"] = (("building",), np.array([b.weight if b.base else nan for b in bl]))
+    return out
 
 
 def energy_balance_error(energy: np.ndarray) -> float:
@@ -274,6 +344,10 @@ class PoundingAccessor:
                 "peak_drift_ratio": float(sel["peak_drift_ratio"].max()),
                 "peak_absolute_acceleration": float(sel["peak_absolute_acceleration"].max()),
             }
+            if "peak_base_displacement" in sel and np.isfinite(sel["peak_base_displacement"]):
+                out["buildings"][str(b)]["peak_base_displacement"] = float(
+                    sel["peak_base_displacement"]
+                )
         for c in ds["contact"].values:
             sel = ds.sel(contact=c)
             out["contacts"].append(

@@ -8,11 +8,20 @@ numbered from the ground up: story ``i`` joins floor ``i - 1`` (the ground for `
 Damping is classical (the undamped mode shapes diagonalise it), either Rayleigh damping anchored on
 two modes or modal damping with one ratio per mode.
 
+A building may stand on a base slab carried by sliding isolation bearings (:class:`IsolationBase`):
+flat sliders or friction pendulum bearings, with a friction law of :mod:`pounding.friction`. The
+building's own matrices (:meth:`ShearBuilding.mass_matrix` ...) and modes stay those of the
+superstructure on a fixed base; :mod:`pounding.system` adds the base degree of freedom.
+
 References
 ----------
 .. [1] Chopra, A. K. (2017). *Dynamics of Structures: Theory and Applications to Earthquake
    Engineering*, 5th ed. Pearson. Ch. 9-10 (shear buildings, modal analysis), Sec. 11.4
    (classical damping matrices), Sec. 13.2 (modal participation, effective modal mass).
+.. [2] Zayas, V. A., Low, S. S., Mahin, S. A. (1990). A simple pendulum technique for achieving
+   seismic isolation. Earthquake Spectra 6(2), 317-333. doi:10.1193/1.1585573
+.. [3] Constantinou, M., Mokha, A., Reinhorn, A. (1990). Teflon bearings in base isolation II:
+   Modeling. J. Struct. Eng. 116(2), 455-474. doi:10.1061/(ASCE)0733-9445(1990)116:2(455)
 """
 
 from __future__ import annotations
@@ -24,6 +33,9 @@ import operator
 
 import numpy as np
 import scipy.linalg
+
+from pounding import friction as _friction
+from pounding.units import G
 
 DEFAULT_STORY_HEIGHT = 3.0
 """Story height [m] used when a building gives none."""
@@ -137,6 +149,173 @@ def _readonly(array: np.ndarray) -> np.ndarray:
     return array
 
 
+#: Sliding bearing types of an :class:`IsolationBase`, with what each adds to the base slab.
+BEARING_TYPES: dict[str, str] = {
+    "flat": "flat slider: friction only, no restoring force",
+    "friction_pendulum": "concave slider of radius R: friction and a restoring stiffness W/R",
+}
+
+_BASE_KEYS = ("type", "mass", "friction", "radius")
+
+
+@dataclasses.dataclass(frozen=True, eq=False, init=False)
+class IsolationBase:
+    """A base slab on sliding isolation bearings under a building.
+
+    Built with the keys of the case file's ``base = {...}`` table::
+
+        IsolationBase(type="friction_pendulum", radius=2.2, friction="constantinou",
+                      mu_min=0.04, mu_max=0.1, a=20.0, mass=5e5)
+
+    Parameters
+    ----------
+    mass : float
+        Mass of the base slab [kg], > 0.
+    type : {"flat", "friction_pendulum"}
+        Bearing type (:data:`BEARING_TYPES`).
+    friction : str
+        Friction law, a name of :data:`pounding.friction.FRICTION_LAWS`. ``coulomb`` is integrated as
+        exact Coulomb stick-slip (its ``v_reg`` is not used): the slab sticks while the force needed
+        to hold it stays within μ_s N and slides against μ_d N otherwise. The other laws are
+        regularised functions of the sliding speed.
+    radius : float, optional
+        Radius of curvature R [m] of a friction pendulum's sliding surface, > 0 (required for
+        ``friction_pendulum``, not allowed for ``flat``). Typical 1-4 m (isolated period
+        2π √(R/g) of 2-4 s).
+    **parameters : float
+        The friction law's parameters (:func:`pounding.friction.friction_parameters`), e.g.
+        ``mu_s``, ``mu_d`` for ``coulomb`` or ``mu_min``, ``mu_max``, ``a`` for ``constantinou``.
+        For a law with a hysteretic variant (``constantinou``), giving the Bouc-Wen yield
+        displacement ``u_y`` [m] selects it: f = μ(v) N z with z from
+        :func:`pounding.friction.bouc_wen_rate`, whose other parameters ``A``, ``beta``, ``gamma``,
+        ``eta`` take the defaults of :data:`pounding.friction.BOUC_WEN_PARAMETERS` unless given.
+
+    Notes
+    -----
+    The normal force on the bearings is the weight of everything they carry, N = W = g (m_base +
+    Σ m_i), constant (no vertical excitation, no overturning). A friction pendulum adds the restoring
+    force (W/R) u_b to the sliding force at the base [2]_; the superstructure's springs and damping
+    act on the floor displacements relative to the slab.
+    """
+
+    type: str
+    mass: float
+    friction: str
+    radius: float | None
+    parameters: dict[str, float]
+    bouc_wen: dict[str, float] | None
+
+    def __init__(
+        self,
+        *,
+        mass: float,
+        type: str = "flat",  # noqa: A002 (the case-file key)
+        friction: str = "coulomb",
+        radius: float | None = None,
+        **parameters: float,
+    ) -> None:
+        where = "base"
+        if type not in BEARING_TYPES:
+            raise ValueError(f"{where}: type = {type!r}; allowed: {', '.join(BEARING_TYPES)}")
+        m = _number(mass, f"{where}: mass", "kg")
+        if not m > 0.0:
+            raise ValueError(f"{where}: mass = {mass!r} kg; allowed: positive and finite")
+        if type == "friction_pendulum":
+            if radius is None:
+                raise ValueError(
+                    f"{where}: radius [m] is required for a friction_pendulum (typical 1-4 m)"
+                )
+            radius = _number(radius, f"{where}: radius", "m")
+            if not radius > 0.0:
+                raise ValueError(f"{where}: radius = {radius!r} m; allowed: positive and finite")
+        elif radius is not None:
+            raise ValueError(
+                f"{where}: radius = {radius!r} applies to type 'friction_pendulum' only; a "
+                f"{type!r} bearing has no restoring force"
+            )
+        try:
+            law = _friction.get_friction_law(friction)
+        except ValueError as exc:
+            raise ValueError(f"{where}: friction: {exc}") from None
+        bw_names = [p.name for p in _friction.BOUC_WEN_PARAMETERS]
+        bw = {k: v for k, v in parameters.items() if k in bw_names}
+        own = {k: v for k, v in parameters.items() if k not in bw_names}
+        allowed = [*_BASE_KEYS, *law.parameter_names]
+        if law.hysteretic_kernel is not None:
+            allowed += bw_names
+        unknown = sorted(set(parameters) - set(allowed))
+        if unknown:
+            raise ValueError(
+                f"{where}: unknown key {unknown[0]!r} for friction law {law.name!r}; allowed: "
+                f"{', '.join(allowed)}"
+            )
+        try:
+            _friction.friction_parameters(law, **own)
+            if bw:
+                _friction.bouc_wen_parameters(**bw)
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+        object.__setattr__(self, "type", type)
+        object.__setattr__(self, "mass", m)
+        object.__setattr__(self, "friction", law.name)
+        object.__setattr__(self, "radius", radius)
+        object.__setattr__(self, "parameters", {k: float(v) for k, v in own.items()})
+        object.__setattr__(self, "bouc_wen", {k: float(v) for k, v in bw.items()} or None)
+
+    def __repr__(self) -> str:
+        extra = {**self.parameters, **(self.bouc_wen or {})}
+        radius = "" if self.radius is None else f", radius={self.radius!r}"
+        params = "".join(f", {k}={v!r}" for k, v in extra.items())
+        return (
+            f"IsolationBase(type={self.type!r}, mass={self.mass!r}{radius}, "
+            f"friction={self.friction!r}{params})"
+        )
+
+    @property
+    def law(self) -> _friction.FrictionLaw:
+        """The friction law."""
+        return _friction.FRICTION_LAWS[self.friction]
+
+    @property
+    def hysteretic(self) -> bool:
+        """True when the law is used with a Bouc-Wen variable z (``u_y`` given)."""
+        return self.bouc_wen is not None
+
+    @property
+    def stick_slip(self) -> bool:
+        """True for exact Coulomb stick-slip (the ``coulomb`` law)."""
+        return self.friction == "coulomb"
+
+    def friction_array(self) -> np.ndarray:
+        """The law's kernel parameter array p (float64, registry order, defaults filled)."""
+        return _friction.friction_parameters(self.law, **self.parameters)
+
+    def bouc_wen_array(self) -> np.ndarray | None:
+        """The Bouc-Wen parameter array, or None without the hysteretic variant."""
+        if self.bouc_wen is None:
+            return None
+        return _friction.bouc_wen_parameters(**self.bouc_wen)
+
+    def to_dict(self) -> dict[str, object]:
+        """The keys of the case file's ``base`` table."""
+        out: dict[str, object] = {"type": self.type, "mass": self.mass, "friction": self.friction}
+        if self.radius is not None:
+            out["radius"] = self.radius
+        return {**out, **self.parameters, **(self.bouc_wen or {})}
+
+
+def _number(value: object, field: str, unit: str) -> float:
+    if isinstance(value, bool):
+        raise ValueError(f"{field} = {value!r}; allowed: a number [{unit}]")
+    try:
+        x = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ValueError(f"{field} = {value!r}; allowed: a number [{unit}]") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{field} = {value!r}; allowed: a finite number [{unit}]")
+    return x
+
+
 _FIELD_UNITS = {"masses": "kg", "stiffnesses": "N/m", "heights": "m"}
 
 
@@ -156,6 +335,11 @@ class ShearBuilding:
         Story heights [m]; default 3.0 m each.
     damping : RayleighDamping or ModalDamping
         Damping model; default 5 % Rayleigh damping on modes 1 and 2.
+    base : IsolationBase, optional
+        A base slab on sliding isolation bearings; None (default) for a building fixed at the base.
+        The base slab is not a floor: floors stay numbered 1..n, and :meth:`mass_matrix`,
+        :meth:`stiffness_matrix`, :meth:`damping_matrix` and :meth:`modal` describe the
+        superstructure on a fixed base (the building while the bearings stick).
 
     Notes
     -----
@@ -174,6 +358,7 @@ class ShearBuilding:
     stiffnesses: np.ndarray
     heights: np.ndarray | None = None
     damping: Damping = RayleighDamping()
+    base: IsolationBase | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
@@ -201,6 +386,8 @@ class ShearBuilding:
                 f"{where}: damping.ratios has {len(self.damping.ratios)} values; give 1 (all "
                 f"modes) or {n} (one per mode)"
             )
+        if self.base is not None and not isinstance(self.base, IsolationBase):
+            raise ValueError(f"{where}: base = {self.base!r}; allowed: an IsolationBase or None")
 
     def _positive_array(self, field: str, values: object) -> np.ndarray:
         where = f"building {self.name!r}"
@@ -233,8 +420,18 @@ class ShearBuilding:
 
     @property
     def total_mass(self) -> float:
-        """Sum of the floor masses [kg]."""
+        """Sum of the floor masses [kg] (without a base slab)."""
         return float(self.masses.sum())
+
+    @property
+    def isolated(self) -> bool:
+        """True when the building stands on an :class:`IsolationBase`."""
+        return self.base is not None
+
+    @property
+    def weight(self) -> float:
+        """Weight carried by the ground or the bearings, W = g (m_base + Σ m_i) [N]."""
+        return G * (self.total_mass + (self.base.mass if self.base is not None else 0.0))
 
     def mass_matrix(self) -> np.ndarray:
         """Diagonal lumped mass matrix M [kg], shape (n, n)."""
@@ -328,6 +525,7 @@ class ShearBuilding:
         mass: float,
         height: float = DEFAULT_STORY_HEIGHT,
         damping: Damping = RayleighDamping(),  # noqa: B008 (frozen, immutable default)
+        base: IsolationBase | None = None,
     ) -> ShearBuilding:
         """A building with equal floor masses and equal story stiffnesses.
 
@@ -352,6 +550,8 @@ class ShearBuilding:
             Height of each story [m] > 0.
         damping : RayleighDamping or ModalDamping
             Damping model.
+        base : IsolationBase, optional
+            Base slab on isolation bearings (the period is the fixed-base one).
         """
         where = f"building {name!r}"
         if isinstance(n_floors, bool) or not isinstance(n_floors, int | np.integer) or n_floors < 1:
@@ -366,4 +566,4 @@ class ShearBuilding:
         s = math.sin(math.pi / (2.0 * (2 * n_floors + 1)))
         k = mass * (omega1 / (2.0 * s)) ** 2
         n = int(n_floors)
-        return cls(name, np.full(n, mass), np.full(n, k), np.full(n, height), damping)
+        return cls(name, np.full(n, mass), np.full(n, k), np.full(n, height), damping, base)

@@ -14,6 +14,21 @@ the ground). The contact force F >= 0 pushes a to the left and b to the right; i
 with B[c, a] = +1, B[c, b] = −1 (:data:`LEFT_SIGN`, :data:`RIGHT_SIGN`). The integrators only use the
 arrays built here (``el_dof``, ``el_sign``, ``el_gap``); they never restate the convention.
 Contacts carry no Rayleigh damping: C is the block diagonal of the buildings' own damping matrices.
+
+**Base isolation.** A building on an :class:`~pounding.structure.IsolationBase` gets one more degree
+of freedom, the base slab's displacement u_b relative to the ground, placed just before its floors
+(so ``dof(building, 0)`` is the base and ``dof(building, floor)`` keeps its meaning). Floor
+displacements stay relative to the ground; the superstructure's K and C act on the floor displacements
+relative to the slab: with T mapping [u_b, u_1..u_n] to [u_1 − u_b, ..., u_n − u_b],
+
+.. math:: K_{ext} = T^T K T + \frac{W}{R} e_b e_b^T, \qquad C_{ext} = T^T C T, \qquad
+          M_{ext} = \mathrm{diag}(m_b, m_1, \dots, m_n)
+
+(the W/R term for a friction pendulum only; W = g (m_b + Σ m_i)). The influence vector stays ones.
+The friction force f of the bearings acts on the base dof, f with the sign of u̇_b (it resists the
+sliding): :math:`M\ddot u + C\dot u + K u + B^T F + E f(\dot u_b) = -M\iota a_g` with E the
+columns e_b (:class:`FrictionElements`). A contact may end at a base slab: floor 0 in a contact's
+``floors`` (a moat wall, or an explicit pair between neighbours).
 """
 
 from __future__ import annotations
@@ -27,6 +42,7 @@ import numpy as np
 
 from pounding.contact.calibrate import CALIBRATIONS, contact_parameters
 from pounding.contact.laws import N_KERNEL_PARAMS, ContactLaw, get_contact_law
+from pounding.friction import BOUC_WEN_PARAMETERS, FRICTION_LAWS
 from pounding.structure import ShearBuilding
 
 #: Sign of the left point's displacement in δ.
@@ -37,6 +53,14 @@ RIGHT_SIGN = -1.0
 WALL = "wall"
 #: Floors whose elevations differ by less than this [m] are at a common level.
 LEVEL_TOLERANCE = 1e-6
+#: Floor number that stands for an isolated building's base slab in a contact definition.
+BASE_FLOOR = 0
+
+#: How the integrators treat a friction element (``fr_kind``): a regularised law f(v) from its
+#: kernel, exact Coulomb stick-slip, or a law with a Bouc-Wen variable z.
+FRICTION_REGULARISED, FRICTION_COULOMB, FRICTION_BOUC_WEN = 0, 1, 2
+#: Width of the friction parameter rows (the longest law's parameter array).
+N_FRICTION_PARAMS = max(len(law.parameters) for law in FRICTION_LAWS.values())
 
 
 @dataclasses.dataclass(frozen=True)
@@ -54,7 +78,9 @@ class Contact:
     floors : "common" or sequence
         Between buildings: ``"common"`` (every pair of floors at the same elevation) or explicit
         ``[(left_floor, right_floor), ...]`` pairs, 1-based, possibly at different heights. With a wall:
-        ``"all"`` or a list of the building's floors.
+        ``"all"`` or a list of the building's floors. Floor 0 (:data:`BASE_FLOOR`) is the base slab
+        of an isolated building, in explicit pairs and wall lists (``"common"`` and ``"all"`` take
+        floors only): ``floors = [0]`` with a wall is a moat wall.
     k, e, n, a, delta_m, calibration
         Law parameters, see :func:`pounding.contact.calibrate.contact_parameters`.
     """
@@ -121,6 +147,32 @@ class GapElements:
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
+class FrictionElements:
+    """The sliding bearings of the isolated buildings, one row per isolated building (F in all).
+
+    ``fr_dof`` the base dof; ``fr_kind`` :data:`FRICTION_REGULARISED`, :data:`FRICTION_COULOMB` or
+    :data:`FRICTION_BOUC_WEN`; ``fr_law`` friction kernel ids (:data:`pounding.friction.LAWS_BY_ID`);
+    ``fr_params`` law parameters (F × :data:`N_FRICTION_PARAMS`, registry order, zero padded);
+    ``fr_bouc_wen`` Bouc-Wen parameters (F × 5, zeros unless hysteretic); ``fr_normal`` the normal
+    force N = W [N]; ``fr_mass`` the base slab mass [kg]. Labels: ``building`` (index in the row),
+    ``law`` registry names.
+    """
+
+    fr_dof: np.ndarray
+    fr_kind: np.ndarray
+    fr_law: np.ndarray
+    fr_params: np.ndarray
+    fr_bouc_wen: np.ndarray
+    fr_normal: np.ndarray
+    fr_mass: np.ndarray
+    building: np.ndarray
+    law: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return int(self.fr_dof.size)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
 class PoundingSystem:
     """Buildings in a row (left to right) with gap elements; the assembled linear matrices.
 
@@ -137,6 +189,8 @@ class PoundingSystem:
     dof_offset: np.ndarray
     below: np.ndarray
     story_height: np.ndarray
+    base_dof: np.ndarray
+    friction: FrictionElements
 
     @property
     def n_dof(self) -> int:
@@ -146,8 +200,21 @@ class PoundingSystem:
     def building_names(self) -> tuple[str, ...]:
         return tuple(b.name for b in self.buildings)
 
+    @property
+    def isolated(self) -> bool:
+        """True when any building stands on isolation bearings."""
+        return bool(np.any(self.base_dof >= 0))
+
     def dof(self, building: int, floor: int) -> int:
-        """Global dof of a building's floor (1-based floor)."""
+        """Global dof of a building's floor (1-based floor; 0 = the base slab of an isolated building).
+
+        ``dof_offset[building]`` is the dof of floor 1; an isolated building's base dof precedes it.
+        """
+        if floor == BASE_FLOOR and self.base_dof[building] < 0:
+            raise ValueError(
+                f"building {self.buildings[building].name!r} has no base slab (floor 0); it is "
+                "fixed at the base"
+            )
         return int(self.dof_offset[building]) + floor - 1
 
     def penetration(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -161,8 +228,22 @@ class PoundingSystem:
         return s[:, 0] * ua + s[:, 1] * ub - el.el_gap, s[:, 0] * va + s[:, 1] * vb
 
     def shortest_period(self) -> float:
-        """Shortest natural period of any building [s] (contacts open)."""
-        return min(float(b.modal().periods.min()) for b in self.buildings)
+        """Shortest natural period of any building [s] (contacts open).
+
+        An isolated building counts both with its bearings stuck (the fixed-base superstructure) and
+        sliding (the free base slab on the superstructure, a shorter period when the slab is light).
+        """
+        periods = [float(b.modal().periods.min()) for b in self.buildings]
+        for i in np.flatnonzero(self.base_dof >= 0):
+            lo = int(self.base_dof[i])
+            hi = lo + 1 + self.buildings[i].n_floors
+            k = self.stiffness[lo:hi, lo:hi]
+            m = np.diag(self.mass)[lo:hi]
+            # the largest eigenvalue of M^-1/2 K M^-1/2 (K may be singular on a flat slider)
+            s = 1.0 / np.sqrt(m)
+            w2 = float(np.linalg.eigvalsh(s[:, None] * k * s[None, :]).max())
+            periods.append(2.0 * math.pi / math.sqrt(w2))
+        return min(periods)
 
 
 def _block_diag(blocks: Sequence[np.ndarray]) -> np.ndarray:
@@ -176,10 +257,29 @@ def _block_diag(blocks: Sequence[np.ndarray]) -> np.ndarray:
     return out
 
 
+def _check_floor(where: str, f: Any, b: ShearBuilding) -> int:
+    """A floor number of building b (0 = its base slab when isolated), validated."""
+    lowest = BASE_FLOOR if b.isolated else 1
+    try:
+        i = int(f)
+    except (TypeError, ValueError):
+        i = None
+    if i is None or i != f or not lowest <= i <= b.n_floors:
+        base = (
+            " (0 = the base slab)"
+            if b.isolated
+            else " (0, a base slab, only for an isolated building)"
+        )
+        raise ValueError(
+            f"{where}: floor {f!r} of building {b.name!r}; allowed: {lowest}..{b.n_floors}{base}"
+        )
+    return i
+
+
 def _floor_pairs(
     contact: Contact, left: ShearBuilding | None, right: ShearBuilding | None
 ) -> list[tuple[int, int]]:
-    """(left floor, right floor) pairs of a contact, 1-based, 0 on a wall side; validated."""
+    """(left floor, right floor) pairs of a contact, 1-based (0 = a base slab), 0 on a wall side."""
     where = f"contact {contact.left!r}-{contact.right!r}"
     floors = contact.floors
     if left is not None and right is not None:
@@ -207,13 +307,7 @@ def _floor_pairs(
                 raise ValueError(
                     f"{where}: floors entry {item!r}; allowed: [left_floor, right_floor] pairs"
                 )
-            i, j = int(item[0]), int(item[1])
-            for f, b in ((i, left), (j, right)):
-                if not 1 <= f <= b.n_floors:
-                    raise ValueError(
-                        f"{where}: floor {f} of building {b.name!r}; allowed: 1..{b.n_floors}"
-                    )
-            pairs.append((i, j))
+            pairs.append((_check_floor(where, item[0], left), _check_floor(where, item[1], right)))
         return pairs
     building = left if left is not None else right
     if isinstance(floors, str):
@@ -223,14 +317,9 @@ def _floor_pairs(
             )
         chosen = list(range(1, building.n_floors + 1))
     else:
-        chosen = []
-        for f in floors:
-            f = int(f[0] if isinstance(f, Sequence) else f)
-            if not 1 <= f <= building.n_floors:
-                raise ValueError(
-                    f"{where}: floor {f} of building {building.name!r}; allowed: 1..{building.n_floors}"
-                )
-            chosen.append(f)
+        chosen = [
+            _check_floor(where, f[0] if isinstance(f, Sequence) else f, building) for f in floors
+        ]
     return [(f, 0) if left is not None else (0, f) for f in chosen]
 
 
@@ -242,7 +331,8 @@ def assemble(
     Contacts may join only neighbours in the row (``left`` immediately left of ``right``) or a building
     and a wall on either side. Each contact expands into one gap element per floor pair, with the
     law's parameters computed for the effective mass m̄ = m_a m_b/(m_a + m_b) of the two floors (m_a for a
-    wall).
+    wall); a base slab (floor 0) counts with its own mass. Isolated buildings get their base dof and
+    a friction element (module docstring).
     """
     buildings = tuple(buildings)
     if not buildings:
@@ -254,9 +344,13 @@ def assemble(
     if WALL in names:
         raise ValueError(f"{WALL!r} is reserved for rigid walls and cannot name a building")
     index = {n: i for i, n in enumerate(names)}
-    offsets = np.concatenate(([0], np.cumsum([b.n_floors for b in buildings])[:-1])).astype(
-        np.int64
+    # each building: [base slab if isolated] + floors; offsets = dof of floor 1
+    sizes = [b.n_floors + (1 if b.isolated else 0) for b in buildings]
+    starts = np.concatenate(([0], np.cumsum(sizes)[:-1])).astype(np.int64)
+    base_dof = np.array(
+        [s if b.isolated else -1 for b, s in zip(buildings, starts, strict=True)], dtype=np.int64
     )
+    offsets = starts + (base_dof >= 0)
 
     rows: list[dict[str, Any]] = []
     for g, contact in enumerate(contacts):
@@ -277,8 +371,8 @@ def assemble(
         rb = buildings[ri] if ri is not None else None
         law: ContactLaw = get_contact_law(contact.law)
         for fl, fr in _floor_pairs(contact, lb, rb):
-            ma = lb.masses[fl - 1] if lb is not None else math.inf
-            mb = rb.masses[fr - 1] if rb is not None else math.inf
+            ma = _point_mass(lb, fl)
+            mb = _point_mass(rb, fr)
             m_eff = mb if math.isinf(ma) else ma if math.isinf(mb) else ma * mb / (ma + mb)
             try:
                 params = contact_parameters(
@@ -331,22 +425,107 @@ def assemble(
         law=tuple(r["law"] for r in rows),
         group=np.array([r["group"] for r in rows], dtype=np.int64),
     )
-    # dof of the floor below each floor (-1 for a first floor, whose story stands on the ground)
+    # dof below each dof: the floor below, the base slab under floor 1 of an isolated building,
+    # -1 (the ground) for a base slab and for floor 1 of a fixed-base building
     below = np.concatenate(
         [
-            np.concatenate(([-1], o + np.arange(b.n_floors - 1)))
-            for b, o in zip(buildings, offsets, strict=True)
+            np.concatenate(([-1, s], o + np.arange(b.n_floors - 1)))
+            if b.isolated
+            else np.concatenate(([-1], o + np.arange(b.n_floors - 1)))
+            for b, s, o in zip(buildings, starts, offsets, strict=True)
         ]
     ).astype(np.int64)
+    blocks = [building_matrices(b) for b in buildings]
     return PoundingSystem(
         buildings=buildings,
         contacts=tuple(contacts),
         elements=elements,
-        mass=_block_diag([b.mass_matrix() for b in buildings]),
-        damping=_block_diag([b.damping_matrix() for b in buildings]),
-        stiffness=_block_diag([b.stiffness_matrix() for b in buildings]),
-        influence=np.ones(int(sum(b.n_floors for b in buildings))),
+        mass=_block_diag([m for m, _, _ in blocks]),
+        damping=_block_diag([c for _, c, _ in blocks]),
+        stiffness=_block_diag([k for _, _, k in blocks]),
+        influence=np.ones(int(sum(sizes))),
         dof_offset=offsets,
         below=below,
-        story_height=np.concatenate([b.heights for b in buildings]),
+        story_height=np.concatenate(
+            [np.concatenate(([0.0], b.heights)) if b.isolated else b.heights for b in buildings]
+        ),
+        base_dof=base_dof,
+        friction=_friction_elements(buildings, base_dof),
+    )
+
+
+def _point_mass(building: ShearBuilding | None, floor: int) -> float:
+    """Mass [kg] of a contact end: a floor, a base slab (floor 0), or inf for a wall."""
+    if building is None:
+        return math.inf
+    if floor == BASE_FLOOR:
+        return float(building.base.mass)
+    return float(building.masses[floor - 1])
+
+
+def building_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M, C, K of one building in the system's dofs ([u_b, u_1..u_n] when isolated; module docstring).
+
+    A fixed-base building's own matrices; an isolated one's K_ext = Tᵀ K T (+ W/R at the base for a
+    friction pendulum, Zayas et al. 1990), C_ext = Tᵀ C T, M_ext = diag(m_b, m_1..m_n).
+    """
+    m, c, k = building.mass_matrix(), building.damping_matrix(), building.stiffness_matrix()
+    base = building.base
+    if base is None:
+        return m, c, k
+    n = building.n_floors
+    t = np.hstack((-np.ones((n, 1)), np.eye(n)))  # floor displacement relative to the slab
+    k_ext = t.T @ k @ t
+    c_ext = t.T @ c @ t
+    if base.radius is not None:
+        k_ext[0, 0] += building.weight / base.radius
+    m_ext = np.diag(np.concatenate(([base.mass], building.masses)))
+    return m_ext, 0.5 * (c_ext + c_ext.T), 0.5 * (k_ext + k_ext.T)
+
+
+def _friction_elements(
+    buildings: Sequence[ShearBuilding], base_dof: np.ndarray
+) -> FrictionElements:
+    rows = []
+    for i, b in enumerate(buildings):
+        base = b.base
+        if base is None:
+            continue
+        law = base.law
+        if base.stick_slip:
+            kind = FRICTION_COULOMB
+        elif base.hysteretic:
+            kind = FRICTION_BOUC_WEN
+        else:
+            kind = FRICTION_REGULARISED
+        params = np.zeros(N_FRICTION_PARAMS)
+        p = base.friction_array()
+        params[: p.size] = p
+        bw = base.bouc_wen_array()
+        rows.append(
+            dict(
+                dof=base_dof[i],
+                kind=kind,
+                law=law.kernel_id,
+                params=params,
+                bw=np.zeros(len(BOUC_WEN_PARAMETERS)) if bw is None else bw,
+                normal=b.weight,
+                mass=base.mass,
+                building=i,
+                name=law.name,
+            )
+        )
+    nf = len(rows)
+    return FrictionElements(
+        fr_dof=np.array([r["dof"] for r in rows], dtype=np.int64),
+        fr_kind=np.array([r["kind"] for r in rows], dtype=np.int64),
+        fr_law=np.array([r["law"] for r in rows], dtype=np.int64),
+        fr_params=np.array([r["params"] for r in rows], dtype=float).reshape(nf, N_FRICTION_PARAMS),
+        fr_bouc_wen=np.array([r["bw"] for r in rows], dtype=float).reshape(
+            nf, len(BOUC_WEN_PARAMETERS)
+        ),
+        fr_normal=np.array([r["normal"] for r in rows], dtype=float),
+        fr_mass=np.array([r["mass"] for r in rows], dtype=float),
+        building=np.array([r["building"] for r in rows], dtype=np.int64),
+        law=tuple(r["name"] for r in rows),
     )

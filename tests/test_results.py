@@ -63,6 +63,7 @@ def test_schema_has_the_issue_names_and_dims(pair):
         "damping",
         "contact_dissipated",
         "contact_stored",
+        "friction_dissipated",
     ]
     assert "energy_balance_error" in pair.attrs
 

@@ -61,6 +61,89 @@ def contact_stored_energy(law, d, f, p):
 
 
 # --------------------------------------------------------------------------------------------------
+# Friction laws: compiled from the single definitions in pounding.friction
+# --------------------------------------------------------------------------------------------------
+import math  # noqa: E402
+
+from pounding import friction as _friction  # noqa: E402
+from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB  # noqa: E402
+
+_FR_ID = {law.name: law.kernel_id for law in _friction.LAWS_BY_ID}
+FR_COULOMB_ID = _FR_ID["coulomb"]
+FR_VISCOUS_ID = _FR_ID["viscous"]
+FR_VISCOUS_NORMAL_ID = _FR_ID["viscous_normal"]
+FR_STRIBECK_ID = _FR_ID["stribeck"]
+FR_ANDERSSON_ID = _FR_ID["andersson"]
+FR_BROWN_MCPHEE_ID = _FR_ID["brown_mcphee"]
+
+_fr_coulomb = jit(_friction.coulomb_kernel)
+_fr_viscous = jit(_friction.viscous_kernel)
+_fr_viscous_normal = jit(_friction.viscous_normal_kernel)
+_fr_stribeck = jit(_friction.stribeck_kernel)
+_fr_andersson = jit(_friction.andersson_kernel)
+_fr_brown_mcphee = jit(_friction.brown_mcphee_kernel)
+_fr_constantinou = jit(_friction.constantinou_kernel)
+_fr_constantinou_bw = jit(_friction.constantinou_bouc_wen_kernel)
+bouc_wen_rate = jit(_friction.bouc_wen_rate)
+
+#: Bouc-Wen slides are integrated with RK4 sub-steps of at most this fraction of u_y.
+BW_SUBSTEP = 0.125
+
+
+@jit
+def friction_eval(law, v, normal, p):
+    """Force [N] and ∂f/∂v [N s/m] of the friction law with kernel id ``law`` (ids of
+    pounding.friction.LAWS_BY_ID) at sliding speed v [m/s] and normal force [N]."""
+    if law == FR_COULOMB_ID:
+        return _fr_coulomb(v, normal, p)
+    if law == FR_VISCOUS_ID:
+        return _fr_viscous(v, normal, p)
+    if law == FR_VISCOUS_NORMAL_ID:
+        return _fr_viscous_normal(v, normal, p)
+    if law == FR_STRIBECK_ID:
+        return _fr_stribeck(v, normal, p)
+    if law == FR_ANDERSSON_ID:
+        return _fr_andersson(v, normal, p)
+    if law == FR_BROWN_MCPHEE_ID:
+        return _fr_brown_mcphee(v, normal, p)
+    return _fr_constantinou(v, normal, p)
+
+
+@jit
+def friction_hysteretic_eval(law, v, normal, z, p):
+    """(f, ∂f/∂v, ∂f/∂z) of a law with a Bouc-Wen variable z (only ``constantinou`` has one)."""
+    return _fr_constantinou_bw(v, normal, z, p)
+
+
+@jit
+def _bouc_wen_slope(z, s, bw):
+    """dz/du [1/m] of a slide in direction s = ±1: Bouc-Wen is rate independent, dz/du = ż/u̇."""
+    return bouc_wen_rate(z, s, bw)[0] * s
+
+
+@jit
+def bouc_wen_slide(z0, du, bw):
+    """(z1, dz1/d du): the Bouc-Wen variable after a monotonic slide du [m] from z0.
+
+    ż/u̇ depends on z and the direction only (rate independence, Wen 1976), so z1 follows from
+    dz/du = Φ(z, sign du) integrated over du with classical RK4 sub-steps of at most BW_SUBSTEP u_y,
+    and ∂z1/∂du = Φ(z1) (the flow of an autonomous equation). Exact in the limit of small
+    sub-steps whatever du/u_y, unlike a single trapezoidal or backward-Euler update."""
+    s = 1.0 if du >= 0.0 else -1.0
+    m = int(math.ceil(abs(du) / (BW_SUBSTEP * bw[0])))
+    m = max(1, min(m, 100000))
+    hu = du / m
+    z = z0
+    for _ in range(m):
+        k1 = _bouc_wen_slope(z, s, bw)
+        k2 = _bouc_wen_slope(z + 0.5 * hu * k1, s, bw)
+        k3 = _bouc_wen_slope(z + 0.5 * hu * k2, s, bw)
+        k4 = _bouc_wen_slope(z + hu * k3, s, bw)
+        z += hu * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
+    return z, _bouc_wen_slope(z, s, bw)
+
+
+# --------------------------------------------------------------------------------------------------
 # Newmark / HHT-alpha time loop
 # --------------------------------------------------------------------------------------------------
 import numpy as np  # noqa: E402
@@ -69,11 +152,20 @@ import numpy as np  # noqa: E402
 IMP_START, IMP_END, IMP_V0, IMP_VEND, IMP_FMAX, IMP_DMAX, IMP_IMPULSE = range(7)
 #: Layout of the integer counters array.
 CNT_IMPACTS, CNT_SUBSTEPS, CNT_NEWTON, CNT_LOCATED, CNT_STATUS, CNT_HALVINGS = range(6)
+CNT_FRICTION = 6  # located stick-slip events
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 0, 1, 2
 #: A located closure ends with the gap shut to within this [m].
 LOCATE_TOL = 1e-10
 #: After an onset (adaptive stepping) the contact step starts 2^GRADED_STEPS times smaller and doubles.
 GRADED_STEPS = 6
+#: Columns of the friction state (one row per friction element): stuck (1/0), sliding direction
+#: (±1), Bouc-Wen z at the step start, force at the step start [N], trial force [N], trial z,
+#: trial tangent ∂f/∂u_b [N/m] (inf for a stuck slab: a constraint).
+FS_STUCK, FS_DIR, FS_Z0, FS_F0, FS_F1, FS_Z1, FS_KF = range(7)
+N_FS = 7
+#: Break-away is located to this fraction of μ_s N, re-sticking to this fraction of the speed scale.
+FRICTION_FORCE_TOL = 1e-10
+FRICTION_SPEED_TOL = 1e-9
 
 
 @jit
@@ -117,6 +209,49 @@ def hermite_root(d0, v0, d1, v1, h):
 
 
 @jit
+def _hermite(g0, s0, g1, s1, h, th):
+    """The cubic Hermite interpolant of (g0, slope s0) -> (g1, s1) over h at θ."""
+    t2 = th * th
+    t3 = t2 * th
+    return (
+        (2 * t3 - 3 * t2 + 1) * g0
+        + (t3 - 2 * t2 + th) * h * s0
+        + (-2 * t3 + 3 * t2) * g1
+        + (t3 - t2) * h * s1
+    )
+
+
+@jit
+def first_drop(g0, s0, g1, s1, h):
+    """θ in (0, 1] where the Hermite cubic of (g0 >= 0, s0) -> (g1 <= 0, s1) first falls to 0.
+
+    Unlike :func:`hermite_root` it allows g0 = 0 with s0 > 0 (a slab that just started sliding and
+    turns back inside the step): the cubic is scanned for its first fall from > 0 to <= 0."""
+    lo = 0.0
+    hi = 1.0
+    prev_pos = g0 > 0.0
+    for j in range(1, 33):
+        th = j / 32.0
+        pos = _hermite(g0, s0, g1, s1, h, th) > 0.0
+        if prev_pos and not pos:
+            lo = (j - 1) / 32.0
+            hi = th
+            break
+        if pos:
+            prev_pos = True
+            lo = th
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _hermite(g0, s0, g1, s1, h, mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-13:
+            break
+    return hi
+
+
+@jit
 def _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
                    el_off, d, dd, f, kd, cd):  # fmt: skip
     """δ, δ̇ (the system's sign arrays), force and tangents of every element at (u1, v1).
@@ -154,6 +289,38 @@ def _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el
 
 
 @jit
+def _eval_friction(u, u1, v1, c1, fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal, fr_state):
+    """Trial force f1 and tangent ∂f1/∂u1 = c1 ∂f/∂v (+ ∂f/∂z ∂z1/∂u1) of every friction element.
+
+    A stuck Coulomb slab is a constraint (tangent inf, force a reaction found after the step); a
+    sliding one carries μ_d N against its direction. Returns True when a law is nonlinear."""
+    nonlinear = False
+    for k in range(fr_dof.size):
+        b = fr_dof[k]
+        kind = fr_kind[k]
+        if kind == FRICTION_COULOMB:
+            if fr_state[k, FS_STUCK] != 0.0:
+                fr_state[k, FS_KF] = np.inf
+            else:
+                fr_state[k, FS_F1] = fr_state[k, FS_DIR] * fr_params[k, 1] * fr_normal[k]
+                fr_state[k, FS_KF] = 0.0
+        elif kind == FRICTION_BOUC_WEN:
+            z1, dz = bouc_wen_slide(fr_state[k, FS_Z0], u1[b] - u[b], fr_bw[k])
+            f, dfdv, dfdz = friction_hysteretic_eval(fr_law[k], v1[b], fr_normal[k], z1,
+                                                     fr_params[k])  # fmt: skip
+            fr_state[k, FS_Z1] = z1
+            fr_state[k, FS_F1] = f
+            fr_state[k, FS_KF] = c1 * dfdv + dfdz * dz
+            nonlinear = True
+        else:
+            f, dfdv = friction_eval(fr_law[k], v1[b], fr_normal[k], fr_params[k])
+            fr_state[k, FS_F1] = f
+            fr_state[k, FS_KF] = c1 * dfdv
+            nonlinear = True
+    return nonlinear
+
+
+@jit
 def _matvec_add(A, x, scale, out):
     """out += scale * A x (explicit loops)."""
     n = x.size
@@ -165,11 +332,41 @@ def _matvec_add(A, x, scale, out):
 
 
 @jit
+def _solve_small(S, m):
+    """Solve the m × m system in S[:m, :m] for the right-hand side in S's last column, in place
+    (Gaussian elimination with partial pivoting). Returns False when it is singular."""
+    rhs_col = S.shape[1] - 1
+    for col in range(m):
+        piv = col
+        for row in range(col + 1, m):
+            if abs(S[row, col]) > abs(S[piv, col]):
+                piv = row
+        if S[piv, col] == 0.0:
+            return False
+        if piv != col:
+            for q in range(m):
+                S[col, q], S[piv, q] = S[piv, q], S[col, q]
+            S[col, rhs_col], S[piv, rhs_col] = S[piv, rhs_col], S[col, rhs_col]
+        for row in range(col + 1, m):
+            f = S[row, col] / S[col, col]
+            for q in range(col, m):
+                S[row, q] -= f * S[col, q]
+            S[row, rhs_col] -= f * S[col, rhs_col]
+    for col in range(m - 1, -1, -1):
+        acc = S[col, rhs_col]
+        for q in range(col + 1, m):
+            acc -= S[col, q] * S[q, rhs_col]
+        S[col, rhs_col] = acc / S[col, col]
+    return True
+
+
+@jit
 def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
     """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using J⁻¹ and the Sherman–Morrison–Woodbury identity.
 
     b_c holds the element's two signs at its dofs; only elements with kc_c != 0 enter, so the small
-    system has the size of the active contact set. Returns False when that system is singular."""
+    system has the size of the active set. kc_c = inf is a constraint b_cᵀ x = 0 (1/kc = 0: a stuck
+    slab). Returns False when that system is singular."""
     n = R.size
     n_el = kc.size
     for i in range(n):
@@ -216,28 +413,8 @@ def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
                 acc += el_sign[c, s] * y[k]
         S[r, rhs_col] = acc
         r += 1
-    # Gaussian elimination with partial pivoting on the m × m system
-    for col in range(m):
-        piv = col
-        for row in range(col + 1, m):
-            if abs(S[row, col]) > abs(S[piv, col]):
-                piv = row
-        if S[piv, col] == 0.0:
-            return False
-        if piv != col:
-            for q in range(m):
-                S[col, q], S[piv, q] = S[piv, q], S[col, q]
-            S[col, rhs_col], S[piv, rhs_col] = S[piv, rhs_col], S[col, rhs_col]
-        for row in range(col + 1, m):
-            f = S[row, col] / S[col, col]
-            for q in range(col, m):
-                S[row, q] -= f * S[col, q]
-            S[row, rhs_col] -= f * S[col, rhs_col]
-    for col in range(m - 1, -1, -1):
-        acc = S[col, rhs_col]
-        for q in range(col + 1, m):
-            acc -= S[col, q] * S[q, rhs_col]
-        S[col, rhs_col] = acc / S[col, col]
+    if not _solve_small(S, m):
+        return False
     for i in range(n):
         acc = 0.0
         for q in range(m):
@@ -249,15 +426,20 @@ def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
 @jit
 def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
             el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf, el_off,
+            fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal, fr_state,
             tol, max_iter, J_inv, h_inv, work, Z, S,
             u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J):  # fmt: skip
     """One Newmark/HHT step of length hs from (u, v, a); fills the *1 arrays. Returns (ok, iterations).
 
-    When hs equals ``h_inv``, the step whose inverse tangent without contacts ``J_inv`` is known, each
-    iteration solves by a Woodbury update for the active contacts; otherwise the full tangent is
-    assembled and solved."""
+    ``el_dof``/``el_sign`` hold the gap elements followed by one row per friction element (its base
+    dof, sign +1), so one Woodbury update covers active contacts, sliding tangents and stuck-slab
+    constraints. When hs equals ``h_inv``, the step whose inverse tangent without contacts ``J_inv``
+    is known, each iteration solves by that update; otherwise the full tangent is assembled and
+    solved."""
     n = u.size
     n_el = el_gap.size
+    n_fr = fr_dof.size
+    n_x = n_el + n_fr
     c0 = 1.0 / (beta * hs * hs)
     c1 = gamma / (beta * hs)
     c2 = 1.0 / (beta * hs)
@@ -270,8 +452,8 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
     old = work[0]
     y = work[1]
     step = work[2]
-    kc = work[3, :n_el]
-    # the α-weighted old internal forces plus the load: −α (C v + K u + Bᵀ f0) + M ι g_eff
+    kc = work[3, :n_x]
+    # the α-weighted old internal forces plus the load: −α (C v + K u + Bᵀ f0 + E f0_fr) + M ι g_eff
     for i in range(n):
         old[i] = Mi[i] * g_eff
     if alpha != 0.0:
@@ -283,6 +465,10 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                     i = el_dof[c, s]
                     if i >= 0:
                         old[i] -= alpha * el_sign[c, s] * f0[c]
+        for k in range(n_fr):
+            # a stuck slab's row is replaced by its constraint
+            if fr_state[k, FS_STUCK] == 0.0:
+                old[fr_dof[k]] -= alpha * fr_state[k, FS_F0]
     u_scale = 1e-3
     for i in range(n):
         u1[i] = u[i]
@@ -296,6 +482,10 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
             v1[i] = c1 * du - c4 * v[i] - c5 * a[i]
         active = _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
                                 el_hd, el_hf, el_off, d1, dd1, f1, kd1, cd1)  # fmt: skip
+        if n_fr > 0:
+            if _eval_friction(u, u1, v1, c1, fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal,
+                              fr_state):  # fmt: skip
+                active = True
         if it > 0 and (small or (not active and not prev_active)):
             return True, it
         if it == max_iter:
@@ -314,6 +504,10 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                     i = el_dof[c, s]
                     if i >= 0:
                         R[i] += w * el_sign[c, s] * f1[c]
+        for k in range(n_fr):
+            kc[n_el + k] = w * fr_state[k, FS_KF]
+            if fr_state[k, FS_STUCK] == 0.0:
+                R[fr_dof[k]] += w * fr_state[k, FS_F1]
         solved = False
         if known:
             solved = _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, step)
@@ -321,8 +515,8 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
             for i in range(n):
                 for j in range(n):
                     J[i, j] = c0 * M[i, j] + w * (c1 * C[i, j] + K[i, j])
-            for c in range(n_el):
-                if kc[c] != 0.0:
+            for c in range(n_x):
+                if kc[c] != 0.0 and not math.isinf(kc[c]):
                     for s in range(2):
                         i = el_dof[c, s]
                         if i < 0:
@@ -331,6 +525,13 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                             j = el_dof[c, r]
                             if j >= 0:
                                 J[i, j] += kc[c] * el_sign[c, s] * el_sign[c, r]
+            for c in range(n_el, n_x):
+                if math.isinf(kc[c]):  # a stuck slab: its row becomes u1_b − u_b = 0
+                    i = el_dof[c, 0]
+                    for j in range(n):
+                        J[i, j] = 0.0
+                    J[i, i] = 1.0
+                    R[i] = 0.0
             sol = np.linalg.solve(J, R)
             for i in range(n):
                 step[i] = -sol[i]
@@ -340,6 +541,9 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
             u1[i] += step[i]
             big = max(big, abs(step[i]))
             u_max = max(u_max, abs(u1[i]))
+        for k in range(n_fr):
+            if fr_state[k, FS_STUCK] != 0.0:
+                u1[fr_dof[k]] = u[fr_dof[k]]  # exactly, not to round-off
         if not np.isfinite(big):
             return False, it
         small = big <= tol * u_max
@@ -390,6 +594,67 @@ def _linear_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1):
 
 
 @jit
+def _linear_step_coulomb(Q, pg, g_eff, hs, gamma, beta, alpha, J_inv, fr_dof, fr_params,
+                         fr_normal, fr_state, S, u, v, a, u1, v1, a1):  # fmt: skip
+    """The linear map with Coulomb slabs: sliding ones load their base with the known force
+    w f1 − α f0 (f = ±μ_d N), stuck ones hold u_b by reactions λ solved from J⁻¹ restricted to the
+    stuck bases (the constrained step, no Newton)."""
+    n = u.size
+    w = 1.0 + alpha
+    for i in range(n):
+        acc = pg[i] * g_eff
+        for j in range(n):
+            acc += Q[i, j] * u[j] + Q[i, n + j] * v[j] + Q[i, 2 * n + j] * a[j]
+        u1[i] = acc
+    m = 0
+    for k in range(fr_dof.size):
+        b = fr_dof[k]
+        if fr_state[k, FS_STUCK] != 0.0:
+            m += 1
+            continue
+        f1 = fr_state[k, FS_DIR] * fr_params[k, 1] * fr_normal[k]
+        fr_state[k, FS_F1] = f1
+        phi = w * f1 - alpha * fr_state[k, FS_F0]
+        for i in range(n):
+            u1[i] -= J_inv[i, b] * phi
+    if m > 0:
+        rhs_col = S.shape[1] - 1
+        r = 0
+        for k in range(fr_dof.size):
+            if fr_state[k, FS_STUCK] == 0.0:
+                continue
+            q = 0
+            for k2 in range(fr_dof.size):
+                if fr_state[k2, FS_STUCK] != 0.0:
+                    S[r, q] = J_inv[fr_dof[k], fr_dof[k2]]
+                    q += 1
+            S[r, rhs_col] = u1[fr_dof[k]] - u[fr_dof[k]]
+            r += 1
+        _solve_small(S, m)
+        q = 0
+        for k in range(fr_dof.size):
+            if fr_state[k, FS_STUCK] == 0.0:
+                continue
+            lam = S[q, rhs_col]
+            for i in range(n):
+                u1[i] -= J_inv[i, fr_dof[k]] * lam
+            q += 1
+        for k in range(fr_dof.size):
+            if fr_state[k, FS_STUCK] != 0.0:
+                u1[fr_dof[k]] = u[fr_dof[k]]
+    c0 = 1.0 / (beta * hs * hs)
+    c1 = gamma / (beta * hs)
+    c2 = 1.0 / (beta * hs)
+    c3 = 0.5 / beta - 1.0
+    c4 = gamma / beta - 1.0
+    c5 = hs * (0.5 * gamma / beta - 1.0)
+    for i in range(n):
+        du = u1[i] - u[i]
+        a1[i] = c0 * du - c2 * v[i] - c3 * a[i]
+        v1[i] = c1 * du - c4 * v[i] - c5 * a[i]
+
+
+@jit
 def _gaps(u1, v1, el_dof, el_sign, el_gap, d, dd):
     """δ and δ̇ of every element from the system's sign arrays; True when any gap is closed."""
     closed = False
@@ -422,23 +687,95 @@ def _quadratic(A, x):
 
 
 @jit
+def _stick_force(b, g1, Mi, C, K, u1, v1, el_dof, el_sign, f1, n_el):
+    """Force p [N] that holds base dof b at rest: m_b u_b'' = p − f, p = −m_b a_g − (C u̇ + K u)_b
+    − (Bᵀ F)_b. A stuck slab's friction equals p; it slides towards sign(p) once |p| > μ_s N."""
+    p = -Mi[b] * g1
+    for j in range(u1.size):
+        p -= C[b, j] * v1[j] + K[b, j] * u1[j]
+    for c in range(n_el):
+        for s in range(2):
+            if el_dof[c, s] == b:
+                p -= el_sign[c, s] * f1[c]
+    return p
+
+
+@jit
+def _friction_gap(k, b, fr_state, fr_params, fr_normal, v1, p1, sign):
+    """Distance to the next stick-slip event of Coulomb element k (>= 0 before it): dir u̇_b while
+    sliding; μ_s N − sign p while stuck (sign = the side the push is on)."""
+    if fr_state[k, FS_STUCK] != 0.0:
+        return fr_params[k, 0] * fr_normal[k] - sign * p1
+    return fr_state[k, FS_DIR] * v1[b]
+
+
+@jit
+def _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
+                 fr_dof, fr_kind, fr_params, fr_normal, fr_state, rhs):  # fmt: skip
+    """Restart the acceleration from equilibrium at (u1, v1), with the friction forces; a stuck
+    Coulomb slab is tested: it keeps sticking (f = p, ü_b = 0) while |p| <= μ_s N, else it breaks
+    away towards sign(p) against μ_d N. Returns True when a slab broke away."""
+    n = u1.size
+    broke = False
+    for i in range(n):
+        acc = -Mi[i] * g1
+        for j in range(n):
+            acc -= C[i, j] * v1[j] + K[i, j] * u1[j]
+        rhs[i] = acc
+    for c in range(n_el):
+        for s in range(2):
+            i = el_dof[c, s]
+            if i >= 0:
+                rhs[i] -= el_sign[c, s] * f1[c]
+    for k in range(fr_dof.size):
+        b = fr_dof[k]
+        if fr_kind[k] == FRICTION_COULOMB and fr_state[k, FS_STUCK] != 0.0:
+            p = rhs[b]
+            if abs(p) <= fr_params[k, 0] * fr_normal[k]:
+                fr_state[k, FS_F1] = p
+                rhs[b] = 0.0
+                continue
+            fr_state[k, FS_STUCK] = 0.0
+            fr_state[k, FS_DIR] = 1.0 if p > 0.0 else -1.0
+            fr_state[k, FS_F1] = fr_state[k, FS_DIR] * fr_params[k, 1] * fr_normal[k]
+            broke = True
+        rhs[b] -= fr_state[k, FS_F1]
+    for i in range(n):
+        acc = 0.0
+        for j in range(n):
+            acc += M_inv[i, j] * rhs[j]
+        a1[i] = acc
+    for k in range(fr_dof.size):
+        if fr_state[k, FS_STUCK] != 0.0:
+            a1[fr_dof[k]] = 0.0
+            v1[fr_dof[k]] = 0.0
+    return broke
+
+
+@jit
 def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, alpha,
                 el_dof, el_sign, el_gap, el_law, el_params, below,
+                fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal,
                 tol, max_iter, max_halvings, locate_onset,
                 adaptive, steps_per_contact, el_tc_coef, el_tc_exp,
-                out_u, out_v, out_a, out_ag, out_d, out_f, out_e,
+                out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st,
                 peak_u, peak_drift, peak_aabs, peak_f, peak_d,
                 imp_el, imp_val, counters):  # fmt: skip
     """Integrate from rest over n_steps base steps of h; outputs every out_every steps (row 0 = t 0).
 
-    While every gap is open a step is the precomputed linear map (no Newton). A step in which a gap
-    closes is shortened to end at the closure. With ``adaptive``, steps inside a contact are
-    t_c(v0)/steps_per_contact, t_c(v0) = el_tc_coef v0^el_tc_exp the element's undamped contact
-    duration at the impact's own v0; otherwise every step is h. Returns the final time reached;
-    ``counters[CNT_STATUS]`` tells success or the failure kind.
+    ``el_dof``/``el_sign`` list the C gap elements followed by one row per friction element
+    ([base dof, -1], [+1, 0]); ``fr_*`` describe the friction elements (pounding.system.FrictionElements).
+    While every gap is open and every slab is stuck or sliding under Coulomb friction, a step is the
+    precomputed linear map (no Newton). A step in which a gap closes is shortened to end at the
+    closure; one in which a Coulomb slab turns back or breaks away, to end there. With ``adaptive``,
+    steps inside a contact are t_c(v0)/steps_per_contact, t_c(v0) = el_tc_coef v0^el_tc_exp the
+    element's undamped contact duration at the impact's own v0; otherwise every step is h. Returns
+    the final time reached; ``counters[CNT_STATUS]`` tells success or the failure kind.
     """
     n = M.shape[0]
     n_el = el_gap.size
+    n_fr = fr_dof.size
+    n_x = n_el + n_fr
     Mi = M @ iota
     u = np.zeros(n)
     v = np.zeros(n)
@@ -465,6 +802,18 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     none_off = np.zeros(n_el, dtype=np.bool_)
     open_off = np.zeros(n_el, dtype=np.bool_)
     theta = np.zeros(n_el)
+    fr_state = np.zeros((n_fr, N_FS))
+    fr_p = np.zeros(n_fr)
+    fr_event = np.zeros(n_fr, dtype=np.bool_)
+    n_coulomb = 0
+    fr_linear = True
+    for k in range(n_fr):
+        if fr_kind[k] == FRICTION_COULOMB:
+            n_coulomb += 1
+            fr_state[k, FS_STUCK] = 1.0
+        else:
+            fr_linear = False
+        fr_state[k, FS_DIR] = 1.0
     w = 1.0 + alpha
     J_base = (1.0 / (beta * h * h)) * M + w * ((gamma / (beta * h)) * C + K)
     J_inv = np.linalg.inv(J_base)
@@ -474,22 +823,30 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     grade = 0
     J_inv_c = J_inv
     h_inv_c = h
-    work = np.zeros((4, max(n, n_el)))
-    Z = np.zeros((n, max(n_el, 1)))
-    S = np.zeros((max(n_el, 1), max(n_el, 1) + 1))
+    work = np.zeros((4, max(n, n_x)))
+    Z = np.zeros((n, max(n_x, 1)))
+    S = np.zeros((max(n_x, 1), max(n_x, 1) + 1))
     # initial gaps (a contact may start closed when a gap is 0)
     for c in range(n_el):
         d0[c] = -el_gap[c]
+    if n_fr > 0:
+        # slabs start stuck (Coulomb) unless the first push already exceeds μ_s N
+        _equilibrium(ground_at(ag, ag_dt, 0.0), u, v, a, M_inv, Mi, C, K, el_dof, el_sign, f0,
+                     n_el, fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
+        for k in range(n_fr):
+            fr_state[k, FS_F0] = fr_state[k, FS_F1]
     e_in = 0.0
     e_damp = 0.0
     w_c = 0.0
+    e_fr = 0.0
     p_in0 = 0.0
     p_d0 = 0.0
     p_c0 = 0.0
+    p_f0 = 0.0
     cap = imp_el.size
     t = 0.0
-    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, M, K, el_law, el_params,
-           out_u, out_v, out_a, out_ag, out_d, out_f, out_e)  # fmt: skip
+    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, M, K, el_law, el_params,
+           fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st)  # fmt: skip
     for k in range(n_steps):
         t = k * h
         t_next = (k + 1) * h
@@ -507,19 +864,25 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 hs = h  # a full base step: (k + 1) h − k h is not bit-equal to h
             ok = True
             its = 0
-            if not in_contact and hs == h:
-                # open gaps: the exact linear step
+            if not in_contact and hs == h and fr_linear:
+                # open gaps, Coulomb slabs stuck or sliding: the exact linear step
                 g_eff = (1.0 + alpha) * ground_at(ag, ag_dt, t + hs) - alpha * ground_at(
                     ag, ag_dt, t
                 )
-                _linear_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+                if n_fr == 0:
+                    _linear_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+                else:
+                    _linear_step_coulomb(Q, pg, g_eff, hs, gamma, beta, alpha, J_inv, fr_dof,
+                                         fr_params, fr_normal, fr_state, S, u, v, a, u1, v1,
+                                         a1)  # fmt: skip
                 closed = _gaps(u1, v1, el_dof, el_sign, el_gap, d1, dd1)
                 for c in range(n_el):
                     f1[c] = 0.0
                 if closed and not locate_onset:
                     ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                                       el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd,
-                                      el_hf, none_off, tol, max_iter, J_inv, h, work, Z, S,
+                                      el_hf, none_off, fr_dof, fr_kind, fr_law, fr_params, fr_bw,
+                                      fr_normal, fr_state, tol, max_iter, J_inv, h, work, Z, S,
                                       u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
             else:
                 if in_contact and abs(hs - h_contact) <= 1e-8 * h_contact and h_inv_c != h_contact:
@@ -532,7 +895,8 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 h_use = h_inv_c if abs(hs - h_inv_c) <= 1e-8 * h_inv_c else h
                 ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                                   el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd,
-                                  el_hf, open_off, tol, max_iter, J_use, h_use, work, Z, S,
+                                  el_hf, open_off, fr_dof, fr_kind, fr_law, fr_params, fr_bw,
+                                  fr_normal, fr_state, tol, max_iter, J_use, h_use, work, Z, S,
                                   u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
             counters[CNT_NEWTON] += its
             if not ok:
@@ -564,8 +928,10 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                         hs = max(th_min * hs, 1e-12 * h)
                         ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta,
                                           alpha, el_dof, el_sign, el_gap, el_law, el_params, el_in,
-                                          el_v0, el_hd, el_hf, open_off, tol, max_iter, J_inv, h,
-                                          work, Z, S, u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
+                                          el_v0, el_hd, el_hf, open_off, fr_dof, fr_kind, fr_law,
+                                          fr_params, fr_bw, fr_normal, fr_state, tol, max_iter,
+                                          J_inv, h, work, Z, S, u1, v1, a1, d1, dd1, f1, kd1, cd1,
+                                          R, J)  # fmt: skip
                         counters[CNT_NEWTON] += its
                         if not ok:
                             break
@@ -592,9 +958,137 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                         if closing[c] and d1[c] < -LOCATE_TOL:
                             closing[c] = False
             t1 = t + hs
+            g1 = ground_at(ag, ag_dt, t1)
+            fr_restart = False
+            if n_coulomb > 0:
+                # Coulomb stick-slip: the earliest turn-back of a sliding slab or break-away of a
+                # stuck one ends the step (regula falsi with the Illinois rule on the step length)
+                ev = -1
+                th_ev = 2.0
+                for kk in range(n_fr):
+                    fr_event[kk] = False
+                    if fr_kind[kk] != FRICTION_COULOMB:
+                        continue
+                    b = fr_dof[kk]
+                    if fr_state[kk, FS_STUCK] != 0.0:
+                        p1 = _stick_force(b, g1, Mi, C, K, u1, v1, el_dof, el_sign, f1, n_el)
+                        fr_p[kk] = p1
+                        sg = 1.0 if p1 > 0.0 else -1.0
+                        g_end = _friction_gap(kk, b, fr_state, fr_params, fr_normal, v1, p1, sg)
+                        if g_end < 0.0:
+                            g_start = fr_params[kk, 0] * fr_normal[kk] - sg * fr_state[kk, FS_F0]
+                            th = g_start / (g_start - g_end)
+                            if th < th_ev:
+                                th_ev = th
+                                ev = kk
+                    else:
+                        dr = fr_state[kk, FS_DIR]
+                        g_start = dr * v[b]
+                        g_end = dr * v1[b]
+                        if g_end < 0.0:
+                            th = first_drop(max(g_start, 0.0), dr * a[b], g_end, dr * a1[b], hs)
+                            if th < th_ev:
+                                th_ev = th
+                                ev = kk
+                if ev >= 0:
+                    counters[CNT_FRICTION] += 1
+                    b = fr_dof[ev]
+                    stuck_ev = fr_state[ev, FS_STUCK] != 0.0
+                    sg = 1.0 if fr_p[ev] > 0.0 else -1.0
+                    if stuck_ev:
+                        g_lo = fr_params[ev, 0] * fr_normal[ev] - sg * fr_state[ev, FS_F0]
+                        g_tol = FRICTION_FORCE_TOL * fr_params[ev, 0] * fr_normal[ev]
+                        g_hi = _friction_gap(
+                            ev, b, fr_state, fr_params, fr_normal, v1, fr_p[ev], sg
+                        )
+                    else:
+                        g_lo = max(fr_state[ev, FS_DIR] * v[b], 0.0)
+                        g_tol = FRICTION_SPEED_TOL * (abs(v[b]) + abs(a[b]) * hs) + 1e-300
+                        g_hi = fr_state[ev, FS_DIR] * v1[b]
+                    lo = 0.0
+                    hi = hs
+                    x = min(max(th_ev, 1e-6), 1.0 - 1e-6) * hs
+                    side = 0
+                    for it_loc in range(61):
+                        if it_loc == 60:
+                            x = hi  # not converged: end just past the event (g <= 0 there)
+                        ok, its = _newton(x, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta,
+                                          alpha, el_dof, el_sign, el_gap, el_law, el_params, el_in,
+                                          el_v0, el_hd, el_hf, open_off, fr_dof, fr_kind, fr_law,
+                                          fr_params, fr_bw, fr_normal, fr_state, tol, max_iter,
+                                          J_inv, h, work, Z, S, u1, v1, a1, d1, dd1, f1, kd1, cd1,
+                                          R, J)  # fmt: skip
+                        counters[CNT_NEWTON] += its
+                        if not ok:
+                            break
+                        g1 = ground_at(ag, ag_dt, t + x)
+                        p1 = _stick_force(b, g1, Mi, C, K, u1, v1, el_dof, el_sign, f1, n_el)
+                        fr_p[ev] = p1
+                        gx = _friction_gap(ev, b, fr_state, fr_params, fr_normal, v1, p1, sg)
+                        if abs(gx) <= g_tol or (hi - lo <= 1e-13 * h and gx <= 0.0) or it_loc == 60:
+                            break
+                        if gx > 0.0:
+                            lo = x
+                            g_lo = gx
+                            if side == 1:
+                                g_hi *= 0.5
+                            side = 1
+                        else:
+                            hi = x
+                            g_hi = gx
+                            if side == -1:
+                                g_lo *= 0.5
+                            side = -1
+                        x = hi - g_hi * (hi - lo) / (g_hi - g_lo)
+                        if not (lo < x < hi) or hi - lo <= 1e-13 * h:
+                            x = hi if hi - lo <= 1e-13 * h else 0.5 * (lo + hi)
+                    if not ok:
+                        halvings += 1
+                        counters[CNT_HALVINGS] += 1
+                        if halvings > max_halvings:
+                            counters[CNT_STATUS] = STATUS_NO_CONVERGENCE
+                            return t
+                        scale *= 0.5
+                        continue
+                    hs = x
+                    t1 = t + hs
+                    fr_event[ev] = True
+                    for c in range(n_el):
+                        if closing[c] and d1[c] < -LOCATE_TOL:
+                            closing[c] = False
+                # transitions at the step end: the located event and any other slab at its own
+                for kk in range(n_fr):
+                    if fr_kind[kk] != FRICTION_COULOMB:
+                        continue
+                    b = fr_dof[kk]
+                    if fr_state[kk, FS_STUCK] != 0.0:
+                        p1 = _stick_force(b, g1, Mi, C, K, u1, v1, el_dof, el_sign, f1, n_el)
+                        fr_state[kk, FS_F1] = p1
+                        lim = fr_params[kk, 0] * fr_normal[kk]
+                        if fr_event[kk] or abs(p1) > lim:
+                            fr_state[kk, FS_STUCK] = 0.0
+                            fr_state[kk, FS_DIR] = 1.0 if p1 > 0.0 else -1.0
+                            fr_state[kk, FS_F1] = (
+                                fr_state[kk, FS_DIR] * fr_params[kk, 1] * fr_normal[kk]
+                            )
+                            fr_restart = True
+                    else:
+                        dr = fr_state[kk, FS_DIR]
+                        tol_v = FRICTION_SPEED_TOL * (abs(v[b]) + abs(a[b]) * hs) + 1e-300
+                        if (
+                            fr_event[kk]
+                            or dr * v1[b] < 0.0
+                            or (dr * v[b] > 0.0 and dr * v1[b] <= tol_v)
+                        ):
+                            # the slab stops: it sticks if the stick test passes (in _equilibrium)
+                            v1[b] = 0.0
+                            fr_state[kk, FS_STUCK] = 1.0
+                            fr_restart = True
+                if fr_restart:
+                    _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
+                                 fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
             counters[CNT_SUBSTEPS] += 1
             # energy: trapezoidal rule on the powers
-            g1 = ground_at(ag, ag_dt, t1)
             p_in1 = 0.0
             for i in range(n):
                 p_in1 -= v1[i] * Mi[i] * g1
@@ -602,12 +1096,17 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             p_c1 = 0.0
             for c in range(n_el):
                 p_c1 += f1[c] * dd1[c]
+            p_f1 = 0.0
+            for kk in range(n_fr):
+                p_f1 += fr_state[kk, FS_F1] * v1[fr_dof[kk]]
             e_in += 0.5 * hs * (p_in0 + p_in1)
             e_damp += 0.5 * hs * (p_d0 + p_d1)
             w_c += 0.5 * hs * (p_c0 + p_c1)
+            e_fr += 0.5 * hs * (p_f0 + p_f1)
             p_in0 = p_in1
             p_d0 = p_d1
             p_c0 = p_c1
+            p_f0 = p_f1
             # impacts: onsets, running maxima, separations
             onset = False
             for c in range(n_el):
@@ -676,15 +1175,24 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 # restart the next step from equilibrium with that force, not the pre-impact one
                 _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
                                el_hd, el_hf, none_off, d1, dd1, f1, kd1, cd1)  # fmt: skip
-                rhs = -Mi * g1 - C @ v1 - K @ u1
                 p_c0 = 0.0
                 for c in range(n_el):
                     p_c0 += f1[c] * dd1[c]
-                    for s in range(2):
-                        i = el_dof[c, s]
-                        if i >= 0:
-                            rhs[i] -= el_sign[c, s] * f1[c]
-                a1[:] = M_inv @ rhs
+                if n_fr == 0:
+                    rhs = -Mi * g1 - C @ v1 - K @ u1
+                    for c in range(n_el):
+                        for s in range(2):
+                            i = el_dof[c, s]
+                            if i >= 0:
+                                rhs[i] -= el_sign[c, s] * f1[c]
+                    a1[:] = M_inv @ rhs
+                else:
+                    # a stuck slab hit by a jumping contact force may break away at once
+                    _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
+                                 fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
+                    p_f0 = 0.0
+                    for kk in range(n_fr):
+                        p_f0 += fr_state[kk, FS_F1] * v1[fr_dof[kk]]
             # accept
             for i in range(n):
                 u[i] = u1[i]
@@ -707,16 +1215,20 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     peak_f[c] = f1[c]
                 if d1[c] > peak_d[c]:
                     peak_d[c] = d1[c]
+            for kk in range(n_fr):
+                fr_state[kk, FS_F0] = fr_state[kk, FS_F1]
+                fr_state[kk, FS_Z0] = fr_state[kk, FS_Z1]
             t = t1
         if (k + 1) % out_every == 0:
-            _store((k + 1) // out_every, t_next, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, M, K,
-                   el_law, el_params, out_u, out_v, out_a, out_ag, out_d, out_f, out_e)  # fmt: skip
+            _store((k + 1) // out_every, t_next, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr,
+                   M, K, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
+                   out_e, out_ff, out_st)  # fmt: skip
     return t
 
 
 @jit
-def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, M, K, el_law, el_params,
-           out_u, out_v, out_a, out_ag, out_d, out_f, out_e):  # fmt: skip
+def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, M, K, el_law, el_params,
+           fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st):  # fmt: skip
     if row >= out_u.shape[0]:
         return
     out_u[row] = u
@@ -725,6 +1237,9 @@ def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, M, K, el_law, el
     out_ag[row] = ground_at(ag, ag_dt, t)
     out_d[row] = d
     out_f[row] = f
+    for k in range(fr_state.shape[0]):
+        out_ff[row, k] = fr_state[k, FS_F0]
+        out_st[row, k] = fr_state[k, FS_STUCK]
     stored = 0.0
     for c in range(d.size):
         stored += contact_stored_energy(el_law[c], d[c], f[c], el_params[c])
@@ -734,3 +1249,4 @@ def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, M, K, el_law, el
     out_e[row, 3] = e_damp
     out_e[row, 4] = w_c - stored
     out_e[row, 5] = stored
+    out_e[row, 6] = e_fr

@@ -8,7 +8,15 @@ from typing import Any
 import numpy as np
 
 #: Columns of :attr:`RawResult.energy`, in order.
-ENERGY_TERMS = ("input", "kinetic", "strain", "damping", "contact_dissipated", "contact_stored")
+ENERGY_TERMS = (
+    "input",
+    "kinetic",
+    "strain",
+    "damping",
+    "contact_dissipated",
+    "contact_stored",
+    "friction_dissipated",
+)
 
 #: Fields of :attr:`RawResult.impacts`, one array per field, one entry per impact.
 IMPACT_FIELDS = (
@@ -39,6 +47,11 @@ class RawResult:
     ``peak_displacement``, ``peak_drift`` (|u_i − u_below|), ``peak_absolute_acceleration`` per dof;
     ``peak_contact_force``, ``peak_penetration`` per element. ``impacts`` maps :data:`IMPACT_FIELDS`
     to arrays (``end`` and ``v_end`` are NaN for an impact still open when the record ends).
+    Per friction element (isolated building, :class:`pounding.system.FrictionElements`) on the
+    output grid: ``friction_force`` [N] (resisting, with the sign of the base velocity; the
+    reaction of a stuck slab) and ``stick`` (1 while a Coulomb slab sticks, else 0). The strain
+    energy includes a friction pendulum's restoring potential ½ (W/R) u_b²; ``friction_dissipated``
+    is the work of the friction forces ∫ f u̇_b dt.
     """
 
     time: np.ndarray
@@ -56,3 +69,5 @@ class RawResult:
     peak_penetration: np.ndarray
     impacts: dict[str, np.ndarray]
     info: dict[str, Any]
+    friction_force: np.ndarray | None = None
+    stick: np.ndarray | None = None

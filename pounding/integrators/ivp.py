@@ -7,18 +7,21 @@ The equations of motion of :mod:`pounding.system`,
 
 are integrated in first-order form with the state
 
-.. math:: y = [u,\ \dot u,\ F_{bl},\ J,\ E_{in},\ E_D,\ W_c]
+.. math:: y = [u,\ \dot u,\ F_{bl},\ J,\ z,\ E_{in},\ E_D,\ W_c,\ W_f]
 
 where F_bl is the force of each ``bilinear`` element (its loop is hysteretic, so the force is carried
 as a state with rate :func:`pounding.contact.laws.bilinear_rate`), J the cumulative impulse ∫F dt of
-each element and the last three the energy integrals (relative-energy form of Uang & Bertero [3])
+each element, z the Bouc-Wen variable of each hysteretic friction element
+(:func:`pounding.friction.bouc_wen_rate`) and the last four the energy integrals (relative-energy
+form of Uang & Bertero [3]; W_f only when there are friction elements)
 
 .. math:: E_{in} = -\int \dot u^T M\iota\, a_g\,dt, \qquad E_D = \int \dot u^T C\dot u\,dt, \qquad
-          W_c = \int F^T\dot\delta\,dt
+          W_c = \int F^T\dot\delta\,dt, \qquad W_f = \int f^T \dot u_b\,dt
 
-so that E_in = E_K + E_S + E_D + W_c holds exactly, with the kinetic and strain energies
+so that E_in = E_K + E_S + E_D + W_c + W_f holds exactly, with the kinetic and strain energies
 E_K = ½u̇ᵀMu̇, E_S = ½uᵀKu. The contact work splits into the energy still stored in the contacts and the
-energy dissipated, W_c = E_stored + E_dissipated.
+energy dissipated, W_c = E_stored + E_dissipated; W_f is the work of the bearings' friction forces f on
+the base velocities u̇_b of isolated buildings.
 
 How the integration is cut into pieces:
 
@@ -31,6 +34,13 @@ How the integration is cut into pieces:
   reset to 0; the integration restarts there, so each contact phase starts cleanly. The event direction
   follows the element's state, so an event does not fire again at the restart point. Force kinks inside
   a phase (a Kelvin force clamped at zero while δ > 0) are not events.
+* **Coulomb stick-slip** (isolated buildings with the ``coulomb`` law). A sliding slab carries
+  f = ±μ_d N and has a terminal event u̇_b = 0 (direction against its motion): there the velocity is set
+  to exactly 0 and the stick test decides, |p| <= μ_s N with p the force that holds the slab at rest
+  (m_b ü_b = p − f); it sticks, or slides on towards sign(p). A stuck slab has u̇_b ≡ 0, ü_b ≡ 0,
+  f = p, and a terminal event μ_s N − |p| = 0 (break-away) after which it slides towards sign(p).
+  A jump of a contact force at a restart (Kelvin onset) is checked too. The other friction laws are
+  smooth functions of u̇_b (and z) in the right-hand side.
 
 Peaks are taken from the dense output at :data:`SAMPLES_PER_STEP` points inside every accepted solver
 step, plus the step ends and the event points, not only on the output grid; the contact force and
@@ -58,12 +68,16 @@ from pounding.ground_motion import GroundMotion, ground_velocity
 from pounding.integrators._kernels import (
     BILINEAR_ID,
     bilinear_rate,
+    bouc_wen_rate,
     contact_eval,
     contact_stored_energy,
+    friction_eval,
+    friction_hysteretic_eval,
     jit,
 )
 from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, RawResult
-from pounding.system import PoundingSystem
+from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB, PoundingSystem
+from pounding.units import G
 
 #: solve_ivp methods this path accepts.
 IVP_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
@@ -92,8 +106,28 @@ def _element_forces(law, params, d, dd, v0, fstate, force, rate):
 
 
 @jit
-def _rhs_kernel(t, y, dy, b, gap, law, params, v0, bil, a_k, a_c, a_b, iota, m_iota, cmat, ag, ws):
-    """dy/dt of the first-order form (layout of :class:`_Model`); ``ag`` = (a0, slope, t0) of a_g."""
+def _friction_forces(v, z, fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal, fr_stuck, fr_dir,
+                     fr_bwi, force, zdot):  # fmt: skip
+    """Friction force [N] of every element that is not stuck, and ż of the Bouc-Wen variables."""
+    for k in range(fr_dof.size):
+        vb = v[fr_dof[k]]
+        if fr_kind[k] == FRICTION_COULOMB:
+            force[k] = 0.0 if fr_stuck[k] else fr_dir[k] * fr_params[k, 1] * fr_normal[k]
+        elif fr_kind[k] == FRICTION_BOUC_WEN:
+            j = fr_bwi[k]
+            force[k] = friction_hysteretic_eval(fr_law[k], vb, fr_normal[k], z[j], fr_params[k])[0]
+            zdot[j] = bouc_wen_rate(z[j], vb, fr_bw[k])[0]
+        else:
+            force[k] = friction_eval(fr_law[k], vb, fr_normal[k], fr_params[k])[0]
+
+
+@jit
+def _rhs_kernel(t, y, dy, b, gap, law, params, v0, bil, a_k, a_c, a_b, iota, m_iota, cmat, ag, ws,
+                fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal, fr_minv, fr_stuck, fr_dir,
+                fr_bwi, fr_ws):  # fmt: skip
+    """dy/dt of the first-order form (layout of :class:`_Model`); ``ag`` = (a0, slope, t0) of a_g.
+
+    ``fr_ws[0]`` receives each friction element's force (the holding force p of a stuck slab)."""
     n = iota.size
     ne = gap.size
     nb = bil.size
@@ -130,10 +164,33 @@ def _rhs_kernel(t, y, dy, b, gap, law, params, v0, bil, a_k, a_c, a_b, iota, m_i
     for c in range(ne):
         dy[2 * n + nb + c] = force[c]
         work += force[c] * dd[c]
-    base = 2 * n + nb + ne
+    nz = 0
+    work_f = 0.0
+    if fr_dof.size:
+        iz = 2 * n + nb + ne
+        nz = fr_ws.shape[1] - fr_dof.size
+        fforce = fr_ws[0, : fr_dof.size]
+        zdot = fr_ws[0, fr_dof.size :]
+        _friction_forces(y[n : 2 * n], y[iz : iz + nz], fr_dof, fr_kind, fr_law, fr_params, fr_bw,
+                         fr_normal, fr_stuck, fr_dir, fr_bwi, fforce, zdot)  # fmt: skip
+        for k in range(fr_dof.size):
+            i = fr_dof[k]
+            if fr_stuck[k]:
+                # held at rest: the friction is the force p = m_b ü_b(free) that keeps it there
+                fforce[k] = dy[n + i] / fr_minv[k]
+                dy[n + i] = 0.0
+                dy[i] = 0.0
+            else:
+                dy[n + i] -= fr_minv[k] * fforce[k]
+                work_f += fforce[k] * y[n + i]
+        for j in range(nz):
+            dy[iz + j] = zdot[j]
+    base = 2 * n + nb + ne + nz
     dy[base] = e_in
     dy[base + 1] = e_damp
     dy[base + 2] = work
+    if fr_dof.size:
+        dy[base + 3] = work_f
 
 
 @jit
@@ -224,18 +281,43 @@ class _Model:
         self.a_k = np.ascontiguousarray(minv @ self.stiffness)
         self.a_c = np.ascontiguousarray(minv @ self.damping)
         self.a_b = np.ascontiguousarray(minv @ self.B.T)
+        # friction elements (isolated buildings' bearings); M is diagonal (lumped masses), so a
+        # friction force acts on its base dof's equation alone
+        fr = system.friction
+        self.nf = nf = len(fr)
+        if nf and np.count_nonzero(self.mass - np.diag(np.diag(self.mass))):
+            raise ValueError("the ivp path with isolation bearings needs a diagonal mass matrix")
+        self.fr_dof = np.ascontiguousarray(fr.fr_dof, dtype=np.int64)
+        self.fr_kind = np.ascontiguousarray(fr.fr_kind, dtype=np.int64)
+        self.fr_law = np.ascontiguousarray(fr.fr_law, dtype=np.int64)
+        self.fr_params = np.ascontiguousarray(fr.fr_params, dtype=float)
+        self.fr_bw = np.ascontiguousarray(fr.fr_bouc_wen, dtype=float)
+        self.fr_normal = np.ascontiguousarray(fr.fr_normal, dtype=float)
+        self.fr_minv = 1.0 / np.diag(self.mass)[self.fr_dof]
+        self.fr_limit = self.fr_params[:, 0] * self.fr_normal  # μ_s N of the Coulomb elements
+        self.coulomb = np.flatnonzero(self.fr_kind == FRICTION_COULOMB)
+        hyst = np.flatnonzero(self.fr_kind == FRICTION_BOUC_WEN)
+        self.fr_bwi = np.full(nf, -1, dtype=np.int64)
+        self.fr_bwi[hyst] = np.arange(hyst.size)
+        nz = hyst.size
+        # state of each Coulomb slab (per phase): stuck, and the sliding direction
+        self.fr_stuck = np.zeros(nf, dtype=np.bool_)
+        self.fr_dir = np.ones(nf)
         # state layout
         self.iu = slice(0, n)
         self.iv = slice(n, 2 * n)
         self.ifb = slice(2 * n, 2 * n + nb)
         self.ij = slice(2 * n + nb, 2 * n + nb + ne)
-        self.i_in, self.i_damp, self.i_work = 2 * n + nb + ne + np.arange(3)
-        self.size = 2 * n + nb + ne + 3
+        self.iz = slice(2 * n + nb + ne, 2 * n + nb + ne + nz)
+        # W_f only with friction elements (a state more changes the error norm of every run)
+        self.i_in, self.i_damp, self.i_work, self.i_fric = 2 * n + nb + ne + nz + np.arange(4)
+        self.size = 2 * n + nb + ne + nz + (4 if nf else 3)
         # history variables (per contact phase)
         self.v0 = np.zeros(ne)
         # a_g(t) = ag[0] + ag[1] (t − ag[2]) on the current ground-motion segment
         self.ag = np.zeros(3)
         self._ws = np.zeros((5, ne))  # workspace of the compiled right-hand side
+        self._fr_ws = np.zeros((1, nf + nz))
 
     def set_ground(self, ground: GroundMotion, ta: float, tb: float) -> None:
         """The linear piece of ``ground.at`` on the open interval (ta, tb) (no sample inside)."""
@@ -253,8 +335,24 @@ class _Model:
         _rhs_kernel(
             t, y, dy, self.B, self.gap, self.law, self.params, self.v0, self.bil, self.a_k,
             self.a_c, self.a_b, self.iota, self.m_iota, self.damping, self.ag, self._ws,
+            self.fr_dof, self.fr_kind, self.fr_law, self.fr_params, self.fr_bw, self.fr_normal,
+            self.fr_minv, self.fr_stuck, self.fr_dir, self.fr_bwi, self._fr_ws,
         )  # fmt: skip
         return dy
+
+    def friction_now(self, t: float, y: np.ndarray) -> np.ndarray:
+        """Friction force [N] of every element at (t, y); the holding force p of a stuck slab."""
+        self.rhs(t, y)
+        return self._fr_ws[0, : self.nf].copy()
+
+    def holding_force(self, t: float, y: np.ndarray, k: int) -> float:
+        """Force p [N] that holds slab k at rest at (t, y) (m_b ü_b = p − f), whatever its state."""
+        stuck = bool(self.fr_stuck[k])
+        self.fr_stuck[k] = True
+        try:
+            return float(self.friction_now(t, y)[k])
+        finally:
+            self.fr_stuck[k] = stuck
 
     def element_value(self, y: np.ndarray, c: int, key: str) -> float:
         """Penetration δ [m] (key "d") or contact force [N] (key "force") of element c at state y."""
@@ -284,6 +382,23 @@ class _Model:
         )
         ag = self.ground_at(t)
         acc = -(u @ self.a_k.T) - (v @ self.a_c.T) - force @ self.a_b.T - np.outer(ag, self.iota)
+        friction = np.zeros((t.size, self.nf))
+        if self.nf:
+            zdot = np.zeros(self.iz.stop - self.iz.start)
+            z = y[self.iz].T
+            row = np.zeros(self.nf)
+            for i in range(t.size):
+                _friction_forces(
+                    v[i], z[i], self.fr_dof, self.fr_kind, self.fr_law, self.fr_params, self.fr_bw,
+                    self.fr_normal, self.fr_stuck, self.fr_dir, self.fr_bwi, row, zdot,
+                )  # fmt: skip
+                friction[i] = row
+            for k, b in enumerate(self.fr_dof):
+                if self.fr_stuck[k]:
+                    friction[:, k] = acc[:, b] / self.fr_minv[k]
+                    acc[:, b] = 0.0
+                else:
+                    acc[:, b] -= self.fr_minv[k] * friction[:, k]
         stored_sum = stored.sum(axis=1)
         energy = np.column_stack(
             (
@@ -293,6 +408,7 @@ class _Model:
                 y[self.i_damp],
                 y[self.i_work] - stored_sum,
                 stored_sum,
+                y[self.i_fric] if self.nf else np.zeros(t.size),
             )
         )
         below = np.where(self.below >= 0, u[:, np.maximum(self.below, 0)], 0.0)
@@ -307,13 +423,15 @@ class _Model:
             force=force,
             energy=energy,
             ag=ag,
+            friction=friction,
+            stick=np.broadcast_to(self.fr_stuck.astype(float), (t.size, self.nf)),
         )
 
     def tolerances(self, system: PoundingSystem, ground: GroundMotion, rtol, atol):
         """Absolute tolerance per state component, and the displacement tolerance [m] it implies.
 
         Characteristic sizes: velocity v_c = min(PGV, PGA/ω1) (ω1 the lowest natural frequency of any
-        building), displacement u_c = min(v_c/ω1, δ*) with δ* = (m̄ v_c²/k)^(1/(n+1)) the smallest
+        building, an isolated one's √(g/R) or, on flat sliders, PGA/PGV included), displacement u_c = min(v_c/ω1, δ*) with δ* = (m̄ v_c²/k)^(1/(n+1)) the smallest
         impact penetration scale of any element (so penetrations, not just floor displacements,
         are resolved), v_c √(m̄ k) for bilinear forces, m̄ v_c for impulses, (Σm) v_c² for energies.
         Each component gets ``rtol`` times its size; a user ``atol`` [m] replaces rtol·u_c and
@@ -321,6 +439,12 @@ class _Model:
         """
         omega1 = 2.0 * math.pi / max(float(b.modal().periods.max()) for b in system.buildings)
         pgv = float(np.abs(ground_velocity(ground)).max())
+        for b in system.buildings:
+            # a sliding base moves at the isolated frequency √(g/R), or the ground's own PGA/PGV
+            if b.base is not None and b.base.radius is not None:
+                omega1 = min(omega1, math.sqrt(G / b.base.radius))
+            elif b.base is not None and pgv > 0.0 and ground.pga > 0.0:
+                omega1 = min(omega1, ground.pga / pgv)
         v_c = min(pgv, ground.pga / omega1)
         if not v_c > 0.0:  # no excitation: any positive scale will do
             v_c = 1e-3 * omega1
@@ -335,7 +459,10 @@ class _Model:
         scale[self.iv] = v_c
         scale[self.ifb] = v_c * np.sqrt(m_el[self.bil] * k_el[self.bil])
         scale[self.ij] = m_el * v_c
+        scale[self.iz] = 1.0
         scale[[self.i_in, self.i_damp, self.i_work]] = e_c
+        if self.nf:
+            scale[self.i_fric] = e_c
         factor = rtol if atol is None else atol / u_c
         return factor * scale, factor * u_c
 
@@ -357,6 +484,8 @@ class _Recorder:
             d=np.zeros((nt, ne)),
             force=np.zeros((nt, ne)),
             energy=np.zeros((nt, len(ENERGY_TERMS))),
+            friction=np.zeros((nt, model.nf)),
+            stick=np.zeros((nt, model.nf)),
         )
         self.ground = np.asarray(ground.at(times), dtype=float)
         self.peak = dict(
@@ -483,7 +612,60 @@ def _events(model: _Model, in_contact: np.ndarray) -> list:
         event.terminal = True
         event.direction = -1.0 if in_contact[c] else 1.0
         events.append(event)
+    return events + _friction_events(model)
+
+
+def _friction_events(model: _Model) -> list:
+    """One event per Coulomb slab: u̇_b = 0 against the motion while sliding, μ_s N − |p| = 0 while
+    stuck (p the holding force)."""
+    events = []
+    for k in model.coulomb:
+        k = int(k)
+        if model.fr_stuck[k]:
+            limit = float(model.fr_limit[k])
+
+            def event(t, y, k=k, limit=limit):
+                return limit - abs(float(model.friction_now(t, y)[k]))
+
+            event.direction = -1.0
+        else:
+            i = model.n + int(model.fr_dof[k])
+
+            def event(t, y, i=i):
+                return float(y[i])
+
+            event.direction = -float(model.fr_dir[k])
+        event.terminal = True
+        events.append(event)
     return events
+
+
+def _stick_slip(model: _Model, y: np.ndarray, t: float, fired: list[int]) -> int:
+    """Switch the Coulomb slabs whose event fired at t (indices into ``model.coulomb``), and any other
+    slab at its own switching point; returns the number switched.
+
+    A sliding slab that stops gets u̇_b = 0 exactly, then the stick test: it sticks while its holding
+    force |p| <= μ_s N, else slides on towards sign(p). A stuck slab whose |p| reaches μ_s N (or jumps
+    past it, e.g. at a contact onset) breaks away towards sign(p)."""
+    switched = 0
+    for j, k in enumerate(model.coulomb):
+        k = int(k)
+        i = model.n + int(model.fr_dof[k])
+        if model.fr_stuck[k]:
+            p = model.holding_force(t, y, k)
+            if j in fired or abs(p) > model.fr_limit[k]:
+                model.fr_stuck[k] = False
+                model.fr_dir[k] = 1.0 if p > 0.0 else -1.0
+                switched += 1
+        elif j in fired or model.fr_dir[k] * y[i] < 0.0:
+            y[i] = 0.0
+            p = model.holding_force(t, y, k)
+            if abs(p) <= model.fr_limit[k]:
+                model.fr_stuck[k] = True
+            else:
+                model.fr_dir[k] = 1.0 if p > 0.0 else -1.0
+            switched += 1
+    return switched
 
 
 def integrate_ivp(
@@ -556,6 +738,11 @@ def integrate_ivp(
     t_end = float(times[-1])
     y = np.zeros(model.size)
     in_contact = np.zeros(model.ne, dtype=bool)
+    if model.nf:
+        # Coulomb slabs start stuck unless the first push already exceeds μ_s N
+        model.set_ground(ground, 0.0, float(ground.time[1]) if ground.npts > 1 else 1.0)
+        model.fr_stuck[model.coulomb] = True
+        _stick_slip(model, y, 0.0, [])
     n_rhs = n_steps = n_calls = n_events = 0
     stalls = 0
     t = 0.0
@@ -575,7 +762,7 @@ def integrate_ivp(
                 atol=atol_vec,
                 max_step=max_step,
                 first_step=None if first_step is None else min(first_step, tb - t),
-                events=_events(model, in_contact) if model.ne else None,
+                events=_events(model, in_contact) if model.ne or model.coulomb.size else None,
                 dense_output=True,
             )
             n_calls += 1
@@ -595,7 +782,7 @@ def integrate_ivp(
                 stalls = 0
             else:
                 stalls += 1
-                if stalls > 3 * model.ne + 3:
+                if stalls > 3 * (model.ne + model.coulomb.size) + 3:
                     raise RuntimeError(
                         f"solve_ivp restarts made no progress at t = {t:.9g} s (contact events "
                         "firing at the restart point)"
@@ -604,7 +791,10 @@ def integrate_ivp(
             t = t_new
             if sol.status == 1:
                 fired = [c for c, te in enumerate(sol.t_events) if te.size]
-                n_events += _switch(model, rec, y, t, in_contact, fired)
+                n_events += _switch(
+                    model, rec, y, t, in_contact, [c for c in fired if c < model.ne]
+                )
+                n_events += _stick_slip(model, y, t, [c - model.ne for c in fired if c >= model.ne])
                 first_step = None  # a new contact phase: let the solver choose its first step
 
     out = rec.out
@@ -624,6 +814,8 @@ def integrate_ivp(
         peak_contact_force=rec.peak["force"],
         peak_penetration=rec.peak["d"],
         impacts=rec.impact_log(impulse_now),
+        friction_force=out["friction"],
+        stick=out["stick"],
         info=dict(
             integrator="ivp",
             method=method,

@@ -10,7 +10,13 @@ compiled with numba; it
 - shortens a step that closes a gap so the step ends at the closure (cubic Hermite root of δ), which puts
   the impact time and v0 right,
 - halves the step when Newton does not converge (up to ``max_halvings`` times),
-- tracks peaks at every step and logs every impact.
+- tracks peaks at every step and logs every impact,
+- carries the friction of isolated buildings' bearings: regularised laws and Bouc-Wen hysteresis
+  in the Newton iteration (tangent γ/(βh) ∂f/∂v, plus ∂f/∂z ∂z/∂u_b), and exact Coulomb stick-slip
+  for the ``coulomb`` law: a stuck slab is a constraint (its friction the reaction, a linear step),
+  a sliding one carries ±μ_d N (a linear step too); the step ends where a sliding slab comes to
+  rest (then the stick test |p| <= μ_s N decides) or where the force holding a stuck one reaches
+  μ_s N (break-away), both located to round-off by regula falsi.
 
 References
 ----------
@@ -31,7 +37,7 @@ from scipy.special import beta as beta_fn
 from pounding.contact.laws import LAWS_BY_ID
 from pounding.ground_motion import GroundMotion
 from pounding.integrators import _kernels as kn
-from pounding.integrators.base import IMPACT_FIELDS, ConvergenceError, RawResult
+from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, ConvergenceError, RawResult
 from pounding.system import PoundingSystem
 
 
@@ -135,8 +141,12 @@ def integrate_newmark(
     if not (dt > 0 and math.isfinite(dt)):
         raise ValueError(f"dt = {dt}; allowed: a positive number [s]")
     el = system.elements
-    n, n_el = system.n_dof, len(el)
+    fr = system.friction
+    n, n_el, n_fr = system.n_dof, len(el), len(fr)
     n_out = n_steps // output_every + 1
+    # gap elements followed by one row per friction element: a base dof with sign +1
+    x_dof = np.vstack((el.el_dof, np.column_stack((fr.fr_dof, -np.ones(n_fr, dtype=np.int64)))))
+    x_sign = np.vstack((el.el_sign, np.column_stack((np.ones(n_fr), np.zeros(n_fr)))))
     while True:
         out = {
             "u": np.zeros((n_out, n)),
@@ -145,21 +155,24 @@ def integrate_newmark(
             "ag": np.zeros(n_out),
             "d": np.zeros((n_out, n_el)),
             "f": np.zeros((n_out, n_el)),
-            "e": np.zeros((n_out, 6)),
+            "e": np.zeros((n_out, len(ENERGY_TERMS))),
+            "ff": np.zeros((n_out, n_fr)),
+            "st": np.zeros((n_out, n_fr)),
         }
         peaks = [np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_el), np.zeros(n_el)]
         imp_el = np.zeros(impact_capacity, dtype=np.int64)
         imp_val = np.zeros((impact_capacity, 7))
-        counters = np.zeros(6, dtype=np.int64)
+        counters = np.zeros(7, dtype=np.int64)
         t_reached = kn.newmark_run(
             system.mass, system.damping, system.stiffness, system.influence,
             ground.acceleration, ground.dt, float(dt), int(n_steps), int(output_every),
             sch.gamma, sch.beta, sch.alpha,
-            el.el_dof, el.el_sign, el.el_gap, el.el_law, el.el_params, system.below,
+            x_dof, x_sign, el.el_gap, el.el_law, el.el_params, system.below,
+            fr.fr_dof, fr.fr_kind, fr.fr_law, fr.fr_params, fr.fr_bouc_wen, fr.fr_normal,
             float(tol), int(max_iter), int(max_halvings), bool(locate_onset),
             bool(adaptive), float(steps_per_contact), *contact_duration_coefficients(system),
-            out["u"], out["v"], out["a"], out["ag"], out["d"], out["f"], out["e"],
-            *peaks, imp_el, imp_val, counters,
+            out["u"], out["v"], out["a"], out["ag"], out["d"], out["f"], out["e"], out["ff"],
+            out["st"], *peaks, imp_el, imp_val, counters,
         )  # fmt: skip
         status = counters[kn.CNT_STATUS]
         if status == kn.STATUS_IMPACT_LOG_FULL:
@@ -190,6 +203,8 @@ def integrate_newmark(
         peak_contact_force=peaks[3],
         peak_penetration=peaks[4],
         impacts=impacts,
+        friction_force=out["ff"],
+        stick=out["st"],
         info={
             "integrator": sch.name,
             "gamma": sch.gamma,
@@ -201,6 +216,7 @@ def integrate_newmark(
             "n_newton_iterations": int(counters[kn.CNT_NEWTON]),
             "n_located_onsets": int(counters[kn.CNT_LOCATED]),
             "n_halvings": int(counters[kn.CNT_HALVINGS]),
+            "n_friction_events": int(counters[kn.CNT_FRICTION]),
             "adaptive": int(bool(adaptive)),
         },
     )
