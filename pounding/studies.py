@@ -660,38 +660,48 @@ def plan_study(study: Study, store: str | Path, *, retry_failed: bool = False) -
 
 def run_summary(ds: xr.Dataset) -> xr.Dataset:
     """The summary variables (:data:`SUMMARY`) of one analysis Dataset from :func:`simulate`."""
+    # read through ds.variables (plain Variables) and build the Dataset in one go: DataArray
+    # look-ups and coordinate assignment after construction cost more than the analysis itself
+    var = ds.variables
     n_el = ds.sizes["contact"]
-    imp_contact = ds["impact_contact"].values.astype(np.int64)
-    impulse = np.bincount(imp_contact, weights=ds["impact_impulse"].values, minlength=n_el)[:n_el]
+    imp_contact = var["impact_contact"].values.astype(np.int64)
+    impulse = np.bincount(imp_contact, weights=var["impact_impulse"].values, minlength=n_el)[:n_el]
     v_max = np.full(n_el, np.nan)
-    for c in range(n_el):
-        v0 = ds["impact_v0"].values[imp_contact == c]
-        if v0.size:
-            v_max[c] = np.nanmax(v0)
-    energy = ds["energy"]
+    imp_v0 = var["impact_v0"].values
+    for c in np.unique(imp_contact):
+        v_max[c] = np.nanmax(imp_v0[imp_contact == c])
+    terms = list(var["term"].values)
+    final = var["energy"].values[-1]
     values = {
-        "peak_displacement": ds["peak_displacement"].values,
-        "peak_drift_ratio": ds["peak_drift_ratio"].values,
-        "peak_absolute_acceleration": ds["peak_absolute_acceleration"].values,
-        "peak_contact_force": ds["peak_contact_force"].values,
-        "peak_penetration": ds["peak_penetration"].values,
-        "impact_count": ds["impact_count"].values.astype(float),
+        "peak_displacement": var["peak_displacement"].values,
+        "peak_drift_ratio": var["peak_drift_ratio"].values,
+        "peak_absolute_acceleration": var["peak_absolute_acceleration"].values,
+        "peak_contact_force": var["peak_contact_force"].values,
+        "peak_penetration": var["peak_penetration"].values,
+        "impact_count": var["impact_count"].values.astype(float),
         "total_impulse": impulse,
         "max_impact_velocity": v_max,
-        "input_energy": float(energy.sel(term="input")[-1]),
-        "damping_energy": float(energy.sel(term="damping")[-1]),
-        "contact_dissipated_energy": float(energy.sel(term="contact_dissipated")[-1]),
+        "input_energy": final[terms.index("input")],
+        "damping_energy": final[terms.index("damping")],
+        "contact_dissipated_energy": final[terms.index("contact_dissipated")],
         "energy_balance_error": float(ds.attrs.get("energy_balance_error", np.nan)),
-        "fundamental_period": ds["natural_period"].sel(mode=1).values,
+        "fundamental_period": var["natural_period"].values[:, 0],
     }
-    out = xr.Dataset(
-        {name: (SUMMARY[name][0], np.asarray(v, dtype=float)) for name, v in values.items()},
-        coords={name: ds[name] for name in ("building", "floor", "story", "contact")},
+    data = {
+        name: (
+            SUMMARY[name][0],
+            np.asarray(v, dtype=float),
+            {"units": units, "long_name": long_name},
+        )
+        for name, v in values.items()
+        for (_, units, long_name) in [SUMMARY[name]]
+    }
+    coord_names = ("building", "floor", "story", "contact", "contact_left", "contact_right")
+    coords = {name: var[name].copy() for name in coord_names}
+    coords.update(
+        {name: var[name].copy() for name in ("contact_left_floor", "contact_right_floor")}
     )
-    for name in ("contact_left", "contact_right", "contact_left_floor", "contact_right_floor"):
-        out.coords[name] = ds[name]
-    for name, (_, units, long_name) in SUMMARY.items():
-        out[name].attrs.update(units=units, long_name=long_name)
+    out = xr.Dataset(data, coords=coords)
     for key in ("dt", "output_dt", "duration", "record", "method"):
         if key in ds.attrs:
             out.attrs[key] = ds.attrs[key]
