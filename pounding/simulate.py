@@ -189,6 +189,7 @@ def simulate(
         "pounding_version": __version__,
         "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         "laws": sorted(set(system.elements.law)),
+        "friction_laws": sorted(set(system.friction.law)),
         "method": opts.method,
         **info,
     }

@@ -492,8 +492,10 @@ def _friction_elements(
         if base is None:
             continue
         law = base.law
-        if base.stick_slip:
+        if base.stick_slip and base.friction_array()[0] > 0.0:
             kind = FRICTION_COULOMB
+        elif base.stick_slip:  # frictionless (μ_s = μ_d = 0): never stuck, f ≡ 0
+            kind = FRICTION_REGULARISED
         elif base.hysteretic:
             kind = FRICTION_BOUC_WEN
         else:

@@ -212,6 +212,24 @@ def test_break_away_jumps_with_static_above_dynamic_coefficient():
         assert -dv == pytest.approx(expected * 1e-3, rel=0.05, abs=2e-5)
 
 
+@pytest.mark.parametrize("method", ["newmark", "ivp"])
+def test_frictionless_flat_slider_leaves_the_block_at_rest(method):
+    # Newton's first law: with μ_s = μ_d = 0 and no restoring force nothing pushes the block, so it
+    # stays put while the ground moves under it: u_b = −u_g (relative to the ground). u_g is the
+    # exact double integral of the piecewise-linear record (ground_motion.ground_displacement).
+    from pounding.ground_motion import ground_displacement, ground_velocity
+
+    system = assemble([_coulomb_block(0.0, 0.0)])
+    assert system.friction.fr_kind.tolist() == [FRICTION_REGULARISED]  # never stuck, f = 0
+    gm = sine_pulse(amplitude=3.0, period=0.5, duration=1.0, dt=0.01)
+    ds = simulate(system, gm, method=method, output_dt=0.01)
+    x, v, stick, force = _base(ds)
+    scale = float(np.abs(ground_displacement(gm)).max())
+    np.testing.assert_allclose(x, -ground_displacement(gm), atol=1e-6 * scale)
+    np.testing.assert_allclose(v, -ground_velocity(gm), atol=1e-6 * scale / 0.5)
+    assert np.all(force == 0.0) and np.all(stick == 0.0)
+
+
 # --------------------------------------------------------------------------------------------------
 # Friction pendulum
 # --------------------------------------------------------------------------------------------------
