@@ -154,6 +154,9 @@ IMP_START, IMP_END, IMP_V0, IMP_VEND, IMP_FMAX, IMP_DMAX, IMP_IMPULSE = range(7)
 CNT_IMPACTS, CNT_SUBSTEPS, CNT_NEWTON, CNT_LOCATED, CNT_STATUS, CNT_HALVINGS = range(6)
 CNT_FRICTION = 6  # located stick-slip events
 STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 0, 1, 2
+#: The dense map is used for the open-gap step while its 3n² products cost less than this many times
+#: the band products 3n(2 bw + 1) (small systems, where loop overhead dominates the band form).
+DENSE_MAP_RATIO = 0.35
 #: A located closure ends with the gap shut to within this [m].
 LOCATE_TOL = 1e-10
 #: After an onset (adaptive stepping) the contact step starts 2^GRADED_STEPS times smaller and doubles.
@@ -321,14 +324,102 @@ def _eval_friction(u, u1, v1, c1, fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_
 
 
 @jit
-def _matvec_add(A, x, scale, out):
-    """out += scale * A x (explicit loops)."""
+def bandwidth(M, C, K):
+    """Half bandwidth of the pattern of M, C and K (0 for diagonal; n − 1 when dense)."""
+    n = M.shape[0]
+    bw = 0
+    for i in range(n):
+        for j in range(n):
+            if abs(i - j) > bw and (M[i, j] != 0.0 or C[i, j] != 0.0 or K[i, j] != 0.0):
+                bw = abs(i - j)
+    return bw
+
+
+@jit
+def to_band(A, bw):
+    """Band rows of A: Ab[i, k] = A[i, i − bw + k], k = 0..2 bw."""
+    n = A.shape[0]
+    Ab = np.zeros((n, 2 * bw + 1))
+    for i in range(n):
+        for k in range(2 * bw + 1):
+            j = i - bw + k
+            if 0 <= j < n:
+                Ab[i, k] = A[i, j]
+    return Ab
+
+
+@jit
+def _band_matvec_add(Ab, bw, x, scale, out):
+    """out += scale * A x for A in band rows: O(n bw), linear in the size of a shear-building row."""
     n = x.size
     for i in range(n):
         acc = 0.0
-        for j in range(n):
-            acc += A[i, j] * x[j]
+        for k in range(max(0, bw - i), min(2 * bw + 1, n - i + bw)):
+            acc += Ab[i, k] * x[i - bw + k]
         out[i] += scale * acc
+
+
+@jit
+def _band_quadratic(Ab, bw, x):
+    """xᵀ A x for A in band rows."""
+    n = x.size
+    total = 0.0
+    for i in range(n):
+        row = 0.0
+        for k in range(max(0, bw - i), min(2 * bw + 1, n - i + bw)):
+            row += Ab[i, k] * x[i - bw + k]
+        total += x[i] * row
+    return total
+
+
+@jit
+def band_ldl(Jb, bw):
+    """LDLᵀ factors of a symmetric positive definite band matrix given by band rows (no pivoting is
+    needed: the Newmark tangent c0 M + w(c1 C + K) is SPD). L[i, k] holds L(i, i − bw + k), k < bw;
+    D is returned as the inverse pivots."""
+    n = Jb.shape[0]
+    L = np.zeros((n, bw + 1))
+    D = np.zeros(n)
+    for j in range(n):
+        s = Jb[j, bw]
+        for k in range(max(0, j - bw), j):
+            lk = L[j, k - j + bw]
+            s -= lk * lk * D[k]
+        D[j] = s
+        for i in range(j + 1, min(n, j + bw + 1)):
+            s = Jb[i, j - i + bw]
+            for k in range(max(0, i - bw), j):
+                s -= L[i, k - i + bw] * L[j, k - j + bw] * D[k]
+            L[i, j - i + bw] = s / D[j]
+    for j in range(n):
+        D[j] = 1.0 / D[j]  # stored inverted: the solve multiplies
+    return L, D
+
+
+@jit
+def band_solve(L, D, bw, r, x):
+    """x = (L D⁻¹ Lᵀ)⁻¹ r in O(n bw), D holding the inverse pivots (x and r distinct arrays)."""
+    n = r.size
+    for i in range(n):
+        s = r[i]
+        for j in range(max(0, i - bw), i):
+            s -= L[i, j - i + bw] * x[j]
+        x[i] = s
+    for i in range(n):
+        x[i] *= D[i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, min(n, i + bw + 1)):
+            s -= L[j, i - j + bw] * x[j]
+        x[i] = s
+
+
+@jit
+def _tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha):
+    """Band rows of the Newmark/HHT tangent without contacts, c0 M + (1 + α)(c1 C + K)."""
+    c0 = 1.0 / (beta * hs * hs)
+    c1 = gamma / (beta * hs)
+    return c0 * Mb + (1.0 + alpha) * (c1 * Cb + Kb)
 
 
 @jit
@@ -361,7 +452,27 @@ def _solve_small(S, m):
 
 
 @jit
-def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
+def _dense_matvec_add(A, x, scale, out):
+    """out += scale * A x, dense loops (small systems, where band bookkeeping costs more)."""
+    n = x.size
+    for i in range(n):
+        acc = 0.0
+        for j in range(n):
+            acc += A[i, j] * x[j]
+        out[i] += scale * acc
+
+
+@jit
+def _mv(A, Ab, bw, dense, x, scale, out):
+    """out += scale * A x in the cheaper form for the system size."""
+    if dense:
+        _dense_matvec_add(A, x, scale, out)
+    else:
+        _band_matvec_add(Ab, bw, x, scale, out)
+
+
+@jit
+def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
     """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using J⁻¹ and the Sherman–Morrison–Woodbury identity.
 
     b_c holds the element's two signs at its dofs; only elements with kc_c != 0 enter, so the small
@@ -369,11 +480,16 @@ def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
     slab). Returns False when that system is singular."""
     n = R.size
     n_el = kc.size
+    if dense:
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += J_inv[i, j] * R[j]
+            y[i] = acc
+    else:
+        band_solve(L, D, bw, R, y)  # J⁻¹ R by the band factors; J⁻¹ columns only at contact dofs
     for i in range(n):
-        acc = 0.0
-        for j in range(n):
-            acc += J_inv[i, j] * R[j]
-        y[i] = -acc
+        y[i] = -y[i]
         x[i] = y[i]
     m = 0
     for c in range(n_el):
@@ -427,7 +543,7 @@ def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
 def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
             el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf, el_off,
             fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal, fr_state,
-            tol, max_iter, J_inv, h_inv, work, Z, S,
+            tol, max_iter, J_inv, L, D, h_inv, Mb, Cb, Kb, bw, dense, work, Z, S,
             u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J):  # fmt: skip
     """One Newmark/HHT step of length hs from (u, v, a); fills the *1 arrays. Returns (ok, iterations).
 
@@ -457,8 +573,8 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
     for i in range(n):
         old[i] = Mi[i] * g_eff
     if alpha != 0.0:
-        _matvec_add(C, v, -alpha, old)
-        _matvec_add(K, u, -alpha, old)
+        _mv(C, Cb, bw, dense, v, -alpha, old)
+        _mv(K, Kb, bw, dense, u, -alpha, old)
         for c in range(n_el):
             if f0[c] != 0.0:
                 for s in range(2):
@@ -471,7 +587,8 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                 old[fr_dof[k]] -= alpha * fr_state[k, FS_F0]
     u_scale = 1e-3
     for i in range(n):
-        u1[i] = u[i]
+        # predictor: constant acceleration over the step (one Newton iteration fewer than u1 = u)
+        u1[i] = u[i] + hs * v[i] + 0.5 * hs * hs * a[i]
         u_scale = max(u_scale, abs(u[i]))
     small = False
     prev_active = True
@@ -494,9 +611,9 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
         # residual of the weighted equation of motion
         for i in range(n):
             R[i] = old[i]
-        _matvec_add(M, a1, 1.0, R)
-        _matvec_add(C, v1, w, R)
-        _matvec_add(K, u1, w, R)
+        _mv(M, Mb, bw, dense, a1, 1.0, R)
+        _mv(C, Cb, bw, dense, v1, w, R)
+        _mv(K, Kb, bw, dense, u1, w, R)
         for c in range(n_el):
             kc[c] = w * (kd1[c] + c1 * cd1[c])
             if f1[c] != 0.0:
@@ -510,7 +627,7 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                 R[fr_dof[k]] += w * fr_state[k, FS_F1]
         solved = False
         if known:
-            solved = _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, step)
+            solved = _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, step)
         if not solved:
             for i in range(n):
                 for j in range(n):
@@ -551,11 +668,9 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
 
 
 @jit
-def _linear_map(hs, M, C, K, Mi, gamma, beta, alpha):
-    """Q (n × 3n) and p (n) with u1 = Q [u; v; a] + p g_eff: one Newmark/HHT step of the linear system.
-
-    From the weighted equation M a1 + (1+α)(C v1 + K u1) − α(C v + K u) = −M ι g_eff with the Newmark
-    relations for a1, v1 in terms of u1 (no contact force acts)."""
+def _dense_map(hs, M, C, K, Mi, gamma, beta, alpha):
+    """Q (n × 3n) and p (n) with u1 = Q [u; v; a] + p g_eff: one Newmark/HHT step of the linear
+    system, for small systems (see :func:`_linear_step`)."""
     n = M.shape[0]
     c0 = 1.0 / (beta * hs * hs)
     c1 = gamma / (beta * hs)
@@ -573,8 +688,8 @@ def _linear_map(hs, M, C, K, Mi, gamma, beta, alpha):
 
 
 @jit
-def _linear_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1):
-    """Apply the linear map (explicit loops: no allocation, no BLAS call overhead)."""
+def _dense_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1):
+    """Apply the dense map (explicit loops: no allocation, no BLAS call overhead)."""
     n = u.size
     c0 = 1.0 / (beta * hs * hs)
     c1 = gamma / (beta * hs)
@@ -594,18 +709,54 @@ def _linear_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1):
 
 
 @jit
-def _linear_step_coulomb(Q, pg, g_eff, hs, gamma, beta, alpha, J_inv, fr_dof, fr_params,
-                         fr_normal, fr_state, S, u, v, a, u1, v1, a1):  # fmt: skip
+def _linear_step(Mb, Cb, Kb, bw, L, D, Mi, g_eff, hs, gamma, beta, alpha, u, v, a, u1, v1, a1,
+                 lin):  # fmt: skip
+    """One Newmark/HHT step of the linear system (no contact force), solved for the increment:
+
+    J Δu = M(c2 v + c3 a) + C((w c4 + α) v + w c5 a) − K u − M ι g_eff,  J = c0 M + w(c1 C + K),
+
+    from the weighted equation M a1 + w(C v1 + K u1) − α(C v + K u) = −M ι g_eff (w = 1 + α) and the
+    Newmark relations. Band matrix products and the band factors of J: O(n bw) per step, and the
+    increment keeps its digits at small steps (u1 − u would not)."""
+    n = u.size
+    c0 = 1.0 / (beta * hs * hs)
+    c1 = gamma / (beta * hs)
+    c2 = 1.0 / (beta * hs)
+    c3 = 0.5 / beta - 1.0
+    c4 = gamma / beta - 1.0
+    c5 = hs * (0.5 * gamma / beta - 1.0)
+    w = 1.0 + alpha
+    p, q, rhs, du = lin
+    for i in range(n):
+        p[i] = c2 * v[i] + c3 * a[i]
+        q[i] = (w * c4 + alpha) * v[i] + w * c5 * a[i]
+    for i in range(n):
+        acc = -Mi[i] * g_eff
+        for k in range(max(0, bw - i), min(2 * bw + 1, n - i + bw)):
+            j = i - bw + k
+            acc += Mb[i, k] * p[j] + Cb[i, k] * q[j] - Kb[i, k] * u[j]
+        rhs[i] = acc
+    band_solve(L, D, bw, rhs, du)
+    for i in range(n):
+        u1[i] = u[i] + du[i]
+        a1[i] = c0 * du[i] - c2 * v[i] - c3 * a[i]
+        v1[i] = c1 * du[i] - c4 * v[i] - c5 * a[i]
+
+
+@jit
+def _linear_step_coulomb(Mb, Cb, Kb, bw, L, D, Q, pg, Mi, g_eff, hs, gamma, beta, alpha, J_inv,
+                         fr_dof, fr_params, fr_normal, fr_state, S, u, v, a, u1, v1, a1,
+                         lin):  # fmt: skip
     """The linear map with Coulomb slabs: sliding ones load their base with the known force
     w f1 − α f0 (f = ±μ_d N), stuck ones hold u_b by reactions λ solved from J⁻¹ restricted to the
     stuck bases (the constrained step, no Newton)."""
     n = u.size
     w = 1.0 + alpha
-    for i in range(n):
-        acc = pg[i] * g_eff
-        for j in range(n):
-            acc += Q[i, j] * u[j] + Q[i, n + j] * v[j] + Q[i, 2 * n + j] * a[j]
-        u1[i] = acc
+    if Q.shape[0] == n:
+        _dense_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+    else:
+        _linear_step(Mb, Cb, Kb, bw, L, D, Mi, g_eff, hs, gamma, beta, alpha, u, v, a, u1, v1, a1,
+                     lin)  # fmt: skip
     m = 0
     for k in range(fr_dof.size):
         b = fr_dof[k]
@@ -671,19 +822,6 @@ def _gaps(u1, v1, el_dof, el_sign, el_gap, d, dd):
         if dc > 0.0:
             closed = True
     return closed
-
-
-@jit
-def _quadratic(A, x):
-    """xᵀ A x with explicit loops."""
-    n = x.size
-    total = 0.0
-    for i in range(n):
-        row = 0.0
-        for j in range(n):
-            row += A[i, j] * x[j]
-        total += x[i] * row
-    return total
 
 
 @jit
@@ -818,10 +956,25 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     J_base = (1.0 / (beta * h * h)) * M + w * ((gamma / (beta * h)) * C + K)
     J_inv = np.linalg.inv(J_base)
     M_inv = np.linalg.inv(M)
-    Q, pg = _linear_map(h, M, C, K, Mi, gamma, beta, alpha)
+    # band storage: a row of shear buildings has tridiagonal M, C (Rayleigh), K, so every per-step
+    # product and solve is O(n); dense damping or an isolation slab widens the band, never beyond n
+    bw = bandwidth(M, C, K)
+    Mb = to_band(M, bw)
+    Cb = to_band(C, bw)
+    Kb = to_band(K, bw)
+    L_h, D_h = band_ldl(_tangent_band(h, Mb, Cb, Kb, gamma, beta, alpha), bw)
+    lin = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+    dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
+    if dense:
+        Q, pg = _dense_map(h, M, C, K, Mi, gamma, beta, alpha)
+    else:
+        Q = np.zeros((0, 3 * n))
+        pg = np.zeros(0)
     h_contact = h
     grade = 0
     J_inv_c = J_inv
+    L_c = L_h
+    D_c = D_h
     h_inv_c = h
     work = np.zeros((4, max(n, n_x)))
     Z = np.zeros((n, max(n_x, 1)))
@@ -845,7 +998,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     p_f0 = 0.0
     cap = imp_el.size
     t = 0.0
-    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, M, K, el_law, el_params,
+    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, Mb, Kb, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st)  # fmt: skip
     for k in range(n_steps):
         t = k * h
@@ -870,11 +1023,15 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     ag, ag_dt, t
                 )
                 if n_fr == 0:
-                    _linear_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+                    if Q.shape[0] == n:
+                        _dense_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+                    else:
+                        _linear_step(Mb, Cb, Kb, bw, L_h, D_h, Mi, g_eff, hs, gamma, beta, alpha,
+                                     u, v, a, u1, v1, a1, lin)  # fmt: skip
                 else:
-                    _linear_step_coulomb(Q, pg, g_eff, hs, gamma, beta, alpha, J_inv, fr_dof,
-                                         fr_params, fr_normal, fr_state, S, u, v, a, u1, v1,
-                                         a1)  # fmt: skip
+                    _linear_step_coulomb(Mb, Cb, Kb, bw, L_h, D_h, Q, pg, Mi, g_eff, hs, gamma, beta,
+                                         alpha, J_inv, fr_dof, fr_params, fr_normal, fr_state, S, u, v, a,
+                                         u1, v1, a1, lin)  # fmt: skip
                 closed = _gaps(u1, v1, el_dof, el_sign, el_gap, d1, dd1)
                 for c in range(n_el):
                     f1[c] = 0.0
@@ -882,7 +1039,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                                       el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd,
                                       el_hf, none_off, fr_dof, fr_kind, fr_law, fr_params, fr_bw,
-                                      fr_normal, fr_state, tol, max_iter, J_inv, h, work, Z, S,
+                                      fr_normal, fr_state, tol, max_iter, J_inv, L_h, D_h, h, Mb, Cb, Kb, bw, dense, work, Z, S,
                                       u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
             else:
                 if in_contact and abs(hs - h_contact) <= 1e-8 * h_contact and h_inv_c != h_contact:
@@ -890,13 +1047,17 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     J_inv_c = np.linalg.inv(
                         (1.0 / (beta * hs * hs)) * M + w * ((gamma / (beta * hs)) * C + K)
                     )
+                    L_c, D_c = band_ldl(_tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha), bw)
                     h_inv_c = hs
-                J_use = J_inv_c if abs(hs - h_inv_c) <= 1e-8 * h_inv_c else J_inv
-                h_use = h_inv_c if abs(hs - h_inv_c) <= 1e-8 * h_inv_c else h
+                use_c = abs(hs - h_inv_c) <= 1e-8 * h_inv_c
+                J_use = J_inv_c if use_c else J_inv
+                L_use = L_c if use_c else L_h
+                D_use = D_c if use_c else D_h
+                h_use = h_inv_c if use_c else h
                 ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                                   el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd,
                                   el_hf, open_off, fr_dof, fr_kind, fr_law, fr_params, fr_bw,
-                                  fr_normal, fr_state, tol, max_iter, J_use, h_use, work, Z, S,
+                                  fr_normal, fr_state, tol, max_iter, J_use, L_use, D_use, h_use, Mb, Cb, Kb, bw, dense, work, Z, S,
                                   u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
             counters[CNT_NEWTON] += its
             if not ok:
@@ -930,7 +1091,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                                           alpha, el_dof, el_sign, el_gap, el_law, el_params, el_in,
                                           el_v0, el_hd, el_hf, open_off, fr_dof, fr_kind, fr_law,
                                           fr_params, fr_bw, fr_normal, fr_state, tol, max_iter,
-                                          J_inv, h, work, Z, S, u1, v1, a1, d1, dd1, f1, kd1, cd1,
+                                          J_inv, L_h, D_h, h, Mb, Cb, Kb, bw, dense, work, Z, S, u1, v1, a1, d1, dd1, f1, kd1, cd1,
                                           R, J)  # fmt: skip
                         counters[CNT_NEWTON] += its
                         if not ok:
@@ -1016,7 +1177,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                                           alpha, el_dof, el_sign, el_gap, el_law, el_params, el_in,
                                           el_v0, el_hd, el_hf, open_off, fr_dof, fr_kind, fr_law,
                                           fr_params, fr_bw, fr_normal, fr_state, tol, max_iter,
-                                          J_inv, h, work, Z, S, u1, v1, a1, d1, dd1, f1, kd1, cd1,
+                                          J_inv, L_h, D_h, h, Mb, Cb, Kb, bw, dense, work, Z, S, u1, v1, a1, d1, dd1, f1, kd1, cd1,
                                           R, J)  # fmt: skip
                         counters[CNT_NEWTON] += its
                         if not ok:
@@ -1092,7 +1253,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             p_in1 = 0.0
             for i in range(n):
                 p_in1 -= v1[i] * Mi[i] * g1
-            p_d1 = _quadratic(C, v1)
+            p_d1 = _band_quadratic(Cb, bw, v1)
             p_c1 = 0.0
             for c in range(n_el):
                 p_c1 += f1[c] * dd1[c]
@@ -1221,13 +1382,13 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             t = t1
         if (k + 1) % out_every == 0:
             _store((k + 1) // out_every, t_next, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr,
-                   M, K, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
+                   Mb, Kb, bw, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
                    out_e, out_ff, out_st)  # fmt: skip
     return t
 
 
 @jit
-def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, M, K, el_law, el_params,
+def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, Mb, Kb, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st):  # fmt: skip
     if row >= out_u.shape[0]:
         return
@@ -1244,8 +1405,8 @@ def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, M, K, el_l
     for c in range(d.size):
         stored += contact_stored_energy(el_law[c], d[c], f[c], el_params[c])
     out_e[row, 0] = e_in
-    out_e[row, 1] = 0.5 * (v @ (M @ v))
-    out_e[row, 2] = 0.5 * (u @ (K @ u))
+    out_e[row, 1] = 0.5 * _band_quadratic(Mb, bw, v)
+    out_e[row, 2] = 0.5 * _band_quadratic(Kb, bw, u)
     out_e[row, 3] = e_damp
     out_e[row, 4] = w_c - stored
     out_e[row, 5] = stored
