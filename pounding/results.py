@@ -228,9 +228,10 @@ def build_dataset(
         ),
     }
     ds = xr.Dataset(d, coords=coords)
+    variables = ds.variables  # plain Variables: ds[name] would build a DataArray each time
     for name, attrs in ATTRS.items():
-        if name in ds.variables:
-            ds[name].attrs.update(attrs)
+        if name in variables:
+            variables[name].attrs.update(attrs)
     ds.attrs["energy_balance_error"] = energy_balance_error(raw.energy)
     ds.attrs["record"] = ground.name
     ds.attrs["record_dt"] = ground.dt
