@@ -209,7 +209,10 @@ def run(
         steps_per_period=opts.steps_per_period,
         adaptive=opts.adaptive,
     )
-    output_dt = max(opts.output_dt or 0.005, dt)
+    # the ivp path steps on its own: its output grid is the one asked for, not tied to a Newmark step
+    output_dt = (
+        (opts.output_dt or 0.005) if opts.method == "ivp" else max(opts.output_dt or 0.005, dt)
+    )
     every = max(1, math.ceil(output_dt / dt - 1e-9))
     dt = output_dt / every
     n_out = max(1, math.ceil(duration / output_dt - 1e-9))

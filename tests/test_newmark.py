@@ -244,3 +244,11 @@ def test_large_row_takes_the_band_path_and_agrees_with_ivp():
     f_nm, f_ivp = float(nm["peak_contact_force"].max()), float(ivp["peak_contact_force"].max())
     assert f_nm == pytest.approx(f_ivp, rel=2e-2)
     assert nm.attrs["energy_balance_error"] < 1e-2
+
+
+def test_ivp_output_grid_is_the_requested_one():
+    # the ivp path has no Newmark step: output_dt must not be raised to the Newmark default step
+    system = assemble([_sdof(0.5)])
+    gm = sine_pulse(amplitude=1.0, period=0.5, duration=1.0, dt=0.01)
+    ds = simulate(system, gm, method="ivp", output_dt=1e-3)
+    assert float(ds["time"][1] - ds["time"][0]) == pytest.approx(1e-3)
