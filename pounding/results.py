@@ -23,6 +23,7 @@ import xarray as xr
 
 from pounding.ground_motion import GroundMotion
 from pounding.integrators.base import ENERGY_TERMS, RawResult
+from pounding.structure import reference_floors
 from pounding.system import PoundingSystem
 
 #: CF-style attributes of every variable and coordinate the schema defines.
@@ -41,7 +42,7 @@ ATTRS: dict[str, dict[str, str]] = {
     "story_stiffness": {"units": "N/m", "long_name": "story stiffness"},
     "natural_period": {"units": "s", "long_name": "natural period (contacts open)"},
     "effective_modal_mass": {"units": "kg", "long_name": "effective modal mass"},
-    "mode_shape": {"units": "1", "long_name": "mode shape (roof = 1)"},
+    "mode_shape": {"units": "1", "long_name": "mode shape (roof = 1)"},  # see build_dataset
     "contact_left": {"long_name": "left end of gap element (building or wall)"},
     "contact_right": {"long_name": "right end of gap element (building or wall)"},
     "contact_left_floor": {"long_name": "floor of the left end (0 = wall or base slab)"},
@@ -148,7 +149,10 @@ def build_dataset(
     el = system.elements
     n_el = len(el)
     modes = [b.modal() for b in bl]
-    shapes = [m.shapes / m.shapes[-1] for m in modes]
+    # scaled to 1 at the roof (at the top-most moving floor for a mode that leaves the roof still)
+    shapes = [
+        m.shapes / m.shapes[reference_floors(m.shapes), np.arange(m.shapes.shape[1])] for m in modes
+    ]
     mode_shape = np.full((nb, width, width), np.nan)
     for i, s in enumerate(shapes):
         mode_shape[i, : s.shape[0], : s.shape[1]] = s

@@ -120,7 +120,8 @@ class ModalProperties:
     circular_frequencies : ndarray, shape (n_modes,)
         Natural circular frequencies ω_j [rad/s], ascending.
     shapes : ndarray, shape (n_floors, n_modes)
-        Mode shapes φ_j as columns, mass-normalised (Φᵀ M Φ = I) [kg^-0.5], roof component > 0.
+        Mode shapes φ_j as columns, mass-normalised (Φᵀ M Φ = I) [kg^-0.5], roof component > 0
+        (where a mode leaves the roof still, its top-most moving floor's component > 0).
     participation_factors : ndarray, shape (n_modes,)
         Γ_j = φ_jᵀ M 1 [kg^0.5] for a uniform ground motion (influence vector of ones).
     effective_masses : ndarray, shape (n_modes,)
@@ -500,7 +501,7 @@ class ShearBuilding:
     def _modal(self) -> ModalProperties:
         eigenvalues, shapes = scipy.linalg.eigh(self.stiffness_matrix(), self.mass_matrix())
         omega = np.sqrt(eigenvalues)  # ascending; K is positive definite for positive k
-        shapes = shapes * np.where(shapes[-1] < 0.0, -1.0, 1.0)  # roof component > 0
+        shapes = shapes * np.sign(shapes[reference_floors(shapes), np.arange(shapes.shape[1])])
         gamma = shapes.T @ self.masses  # Γ_j = φ_jᵀ M 1 with Φᵀ M Φ = I
         if self._uses_rayleigh():
             a0, a1 = _rayleigh(
@@ -567,3 +568,10 @@ class ShearBuilding:
         k = mass * (omega1 / (2.0 * s)) ** 2
         n = int(n_floors)
         return cls(name, np.full(n, mass), np.full(n, k), np.full(n, height), damping, base)
+
+
+def reference_floors(shapes: np.ndarray) -> np.ndarray:
+    """Per mode, the floor whose component fixes the sign and scale of the shape: the roof, or, where
+    a mode leaves the roof (numerically) still, the top-most floor that moves."""
+    moving = np.abs(shapes) > 1e-8 * np.max(np.abs(shapes), axis=0)
+    return shapes.shape[0] - 1 - np.argmax(moving[::-1], axis=0)
