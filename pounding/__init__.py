@@ -13,7 +13,7 @@ from pounding.ground_motion import GroundMotion, harmonic, ricker, sine_pulse
 from pounding.integrators.base import ConvergenceError
 from pounding.results import open_result, save
 from pounding.simulate import AnalysisOptions, simulate
-from pounding.structure import ModalDamping, RayleighDamping, ShearBuilding
+from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
 from pounding.studies import Study, StudyError, load_study, run_study
 from pounding.system import Contact, PoundingSystem, assemble
 
@@ -42,6 +42,7 @@ __all__ = [
     "ConvergenceError",
     "GroundMotion",
     "ImpactResult",
+    "IsolationBase",
     "ModalDamping",
     "PoundingSystem",
     "RayleighDamping",

@@ -79,6 +79,14 @@ def _print_summary(ds: Any, path: str | None) -> None:
                 f"  {c['contact']:<7d}  {c['left']:<8s} {c['right']:<8s} {c['law']:<20s} "
                 f"{c['gap']:7.4g}  {c['impacts']:7d}  {c['peak_force']:14.4g}"
             )
+    for name, b in s["buildings"].items():
+        base = b.get("peak_base_displacement")
+        if base is not None and base == base:  # isolated buildings only (NaN otherwise)
+            typer.echo(f"  {name}: peak base (bearing) displacement {base:.4g} m")
+    if "friction_dissipated" in ds["term"].values:
+        fr = float(ds["energy"].sel(term="friction_dissipated").isel(time=-1))
+        if fr > 0.0:
+            typer.echo(f"  energy dissipated by bearing friction {fr:.4g} J")
     typer.echo(
         f"  energy balance error {100 * s['energy_balance_error']:.3g} % of the input energy"
     )

@@ -149,8 +149,29 @@ def _contact_name(ds: xr.Dataset, c: int) -> str:
     return text
 
 
+def isolated_buildings(ds: xr.Dataset) -> list[str]:
+    """Buildings on isolation bearings whose base response is in the Dataset (not all NaN)."""
+    if "base_displacement" not in ds or "friction_force" not in ds:
+        return []
+    return [
+        name
+        for name in _buildings(ds)
+        if np.isfinite(ds["base_displacement"].sel(building=name).values).any()
+    ]
+
+
+def _floor_history(ds: xr.Dataset, building: str, floor: int) -> xr.DataArray:
+    """Displacement history of a floor; floor 0 is the base slab of an isolated building."""
+    if floor == 0:
+        return ds["base_displacement"].sel(building=building)
+    return ds["displacement"].sel(building=building, floor=floor)
+
+
 def displacement_histories(ds: xr.Dataset) -> Figure:
-    """Displacement of each building's roof and contact floors over time, impacts marked."""
+    """Displacement of each building's roof and contact floors over time, impacts marked.
+
+    A contact at floor 0 (the base slab of an isolated building) draws the slab's displacement.
+    """
     names = _buildings(ds)
     fig, axes = _figure(1.4 + 1.9 * len(names), nrows=len(names), sharex=True)
     u = ds["displacement"]
@@ -164,7 +185,9 @@ def displacement_histories(ds: xr.Dataset) -> Figure:
                 if ds[f"contact_{side}"].values[c] == name:
                     floors.add(int(ds[f"contact_{side}_floor"].values[c]))
         for f in sorted(floors, reverse=True):
-            line = ax.plot(ds["time"], u.sel(building=name, floor=f), lw=0.8, label=f"floor {f}")
+            uf = _floor_history(ds, name, f)
+            text = "base slab" if f == 0 else f"floor {f}"
+            line = ax.plot(ds["time"], uf, lw=0.8, label=text)
             # an impact marked on the floor it hits, at its start
             for c in ds["contact"].values:
                 sides = [
@@ -177,7 +200,7 @@ def displacement_histories(ds: xr.Dataset) -> Figure:
                     continue
                 t = starts[which == c]
                 if t.size:
-                    y = np.interp(t, ds["time"].values, u.sel(building=name, floor=f).values)
+                    y = np.interp(t, ds["time"].values, uf.values)
                     ax.plot(t, y, "v", ms=4, color=line[0].get_color(), mec="k", mew=0.4)
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set_title(f"building {name} (▼ impact)", fontsize="small", loc="left")
@@ -203,8 +226,14 @@ def envelopes(
             disp = data["peak_displacement"].sel(building=name).values[:n]
             drift = data["peak_drift_ratio"].sel(building=name).values[:n]
             text = f"{name} {tag}".strip()
+            # at z = 0: the ground, or the sliding base slab of an isolated building
+            base = (
+                float(data["peak_base_displacement"].sel(building=name))
+                if "peak_base_displacement" in data
+                else math.nan
+            )
             axes[0, 0].plot(
-                np.concatenate(([0.0], disp)),
+                np.concatenate(([base if math.isfinite(base) else 0.0], disp)),
                 np.concatenate(([0.0], z)),
                 ls,
                 marker="o",
@@ -302,6 +331,19 @@ def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = ""
     return fig
 
 
+def friction_share(ds: xr.Dataset) -> float:
+    """Energy dissipated by bearing friction at the end of the record / input energy then [-].
+
+    0 for a result without the ``friction_dissipated`` term or with no input.
+    """
+    e = ds["energy"]
+    if "friction_dissipated" not in e["term"].values:
+        return 0.0
+    total = float(e.sel(term="input").values[-1])
+    lost = float(e.sel(term="friction_dissipated").values[-1])
+    return lost / total if total > 0.0 and math.isfinite(lost) else 0.0
+
+
 def energy(ds: xr.Dataset) -> Figure:
     """The energy ledger over time: input energy against the sum of the other terms."""
     fig, axes = _figure(3.4)
@@ -312,13 +354,118 @@ def energy(ds: xr.Dataset) -> Figure:
     ax.stackplot(ds["time"].values, np.clip(parts, 0.0, None) / 1e3, labels=terms, alpha=0.8)
     ax.plot(ds["time"], e.sel(term="input") / 1e3, color="k", lw=1.2, label="input")
     err = ds.attrs.get("energy_balance_error")
-    if err is not None:
-        ax.set_title(
-            f"energy balance error {100 * float(err):.3g} % of the input", fontsize="small"
-        )
+    title = [] if err is None else [f"energy balance error {100 * float(err):.3g} % of the input"]
+    share = friction_share(ds)
+    if share > 0.0:
+        title.append(f"bearing friction dissipated {100 * share:.3g} % of the input")
+    if title:
+        ax.set_title("; ".join(title), fontsize="small")
     ax.set_xlabel(label(ds["time"]))
     ax.set_ylabel(label(e, units="kJ"))
     ax.legend(fontsize="x-small", loc="upper left")
+    return fig
+
+
+# --------------------------------------------------------------------------------------------------
+# Base isolation
+# --------------------------------------------------------------------------------------------------
+
+
+def _moat_gaps(ds: xr.Dataset, building: str) -> list[tuple[int, float]]:
+    """(gap element, signed base displacement [m] at which the slab reaches a wall)."""
+    out = []
+    for c in ds["contact"].values:
+        left, right = str(ds["contact_left"].values[c]), str(ds["contact_right"].values[c])
+        gap = float(ds["contact_gap"].values[c])
+        if left == building and int(ds["contact_left_floor"].values[c]) == 0 and right == "wall":
+            out.append((int(c), gap))  # wall on the right: reached at u_b = +g
+        if right == building and int(ds["contact_right_floor"].values[c]) == 0 and left == "wall":
+            out.append((int(c), -gap))  # wall on the left: reached at u_b = -g
+    return out
+
+
+def _bearing_title(ds: xr.Dataset, building: str) -> str:
+    sel = ds.sel(building=building)
+    text = f"building {building}: {sel['base_type'].item()}, {sel['friction_law'].item()}"
+    radius = float(sel["base_radius"]) if "base_radius" in ds else math.nan
+    if math.isfinite(radius):
+        text += f", R = {radius:.3g} m"
+    return text
+
+
+def base_displacements(ds: xr.Dataset) -> Figure:
+    """Base slab (bearing) displacement over time of every isolated building.
+
+    Moat walls (wall contacts at floor 0) are drawn at ±gap with the starts of their impacts;
+    the intervals where the bearings stick are shaded.
+    """
+    names = isolated_buildings(ds)
+    fig, axes = _figure(1.4 + 1.9 * max(1, len(names)), nrows=max(1, len(names)), sharex=True)
+    t = ds["time"].values
+    starts = ds["impact_start"].values if "impact_start" in ds else np.array([])
+    which = ds["impact_contact"].values if "impact_contact" in ds else np.array([], dtype=int)
+    for ax, name in zip(axes[:, 0], names, strict=False):
+        ub = ds["base_displacement"].sel(building=name)
+        ax.plot(t, ub, lw=0.8, color="C0", label="base slab")
+        stuck = ds["stick"].sel(building=name).values == 1.0
+        if stuck.any():
+            ax.fill_between(
+                t,
+                0,
+                1,
+                where=stuck,
+                transform=ax.get_xaxis_transform(),
+                color="0.85",
+                step="mid",
+                label="bearings stuck",
+            )
+        for k, (c, edge) in enumerate(_moat_gaps(ds, name)):
+            ax.axhline(edge, color="C3", ls="--", lw=0.9, label="moat wall" if k == 0 else None)
+            hit = starts[which == c]
+            if hit.size:
+                ax.plot(hit, np.interp(hit, t, ub.values), "v", ms=4, color="C3", mec="k", mew=0.4)
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_title(_bearing_title(ds, name) + " (▼ impact)", fontsize="small", loc="left")
+        ax.set_ylabel(label(ub, "base displacement"))
+        ax.legend(fontsize="x-small", ncol=3, loc="upper right")
+    axes[-1, 0].set_xlabel(label(ds["time"]))
+    return fig
+
+
+def bearing_hysteresis(ds: xr.Dataset) -> Figure:
+    """Hysteresis loops of the isolation bearings: friction force against base displacement.
+
+    One panel per isolated building. A friction pendulum also shows its total lateral force
+    f + (W/R) u_b, the friction plus the pendulum's restoring force [1]_. The title gives the
+    loop's area ∮ f du_b (trapezoidal over the stored samples), the energy the bearings dissipated.
+
+    References
+    ----------
+    .. [1] Zayas, V.A., Low, S.S., Mahin, S.A. (1990). A simple pendulum technique for achieving
+       seismic isolation. Earthquake Spectra 6(2), 317-333. https://doi.org/10.1193/1.1585573
+    """
+    names = isolated_buildings(ds)
+    fig, axes = _figure(3.4, ncols=max(1, len(names)), sharey=True)
+    for ax, name in zip(axes[0], names, strict=False):
+        sel = ds.sel(building=name)
+        u = sel["base_displacement"].values
+        f = sel["friction_force"].values
+        ax.plot(u, f, lw=0.8, color="C0", label="friction f")
+        radius = float(sel["base_radius"]) if "base_radius" in ds else math.nan
+        if math.isfinite(radius):
+            w = float(sel["base_normal_force"])
+            ax.plot(u, f + w / radius * u, lw=0.6, color="C1", alpha=0.8, label="f + (W/R) u_b")
+        ok = np.isfinite(u) & np.isfinite(f)
+        area = float(np.trapezoid(f[ok], u[ok])) if ok.sum() > 1 else math.nan
+        ax.set_title(
+            f"{_bearing_title(ds, name)}\n∮ f du_b = {area / 1e3:.4g} kJ", fontsize="small"
+        )
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.axvline(0.0, color="0.6", lw=0.6)
+        ax.set_xlabel(label(sel["base_displacement"]))
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize="x-small", loc="upper left")
+    axes[0, 0].set_ylabel(label(ds["friction_force"], "bearing force"))
     return fig
 
 

@@ -431,8 +431,13 @@ def facing_pairs(system: PoundingSystem) -> tuple[FacingPair, ...]:
                 right_floor=rf,
                 left_dof=system.dof(li, lf) if li is not None else -1,
                 right_dof=system.dof(ri, rf) if ri is not None else -1,
-                left_elevation=float(blds[li].elevations[lf - 1]) if li is not None else math.nan,
-                right_elevation=float(blds[ri].elevations[rf - 1]) if ri is not None else math.nan,
+                # floor 0 is an isolated building's base slab, at ground level
+                left_elevation=(float(blds[li].elevations[lf - 1]) if lf > 0 else 0.0)
+                if li is not None
+                else math.nan,
+                right_elevation=(float(blds[ri].elevations[rf - 1]) if rf > 0 else 0.0)
+                if ri is not None
+                else math.nan,
             )
         )
 
@@ -1096,6 +1101,13 @@ def separation_analysis(
         )
         if name == WALL:
             return np.zeros(n_rec)
+        if floor == 0:
+            # an isolated building's base slab: its time-history peak is known; fixed-base modal
+            # spectra (and the code rules built on them) say nothing about a sliding slab
+            if peaks is peak_th:
+                dof = int(system.base_dof[index[name]])
+                return np.array([t.peak_displacement[dof] for t in th])
+            return np.full(n_rec, np.nan)
         return peaks[:, index[name], floor - 1]
 
     estimates = [
@@ -1148,6 +1160,9 @@ def separation_analysis(
         cols["cqc_relative_spectral"] = combine_modes(
             np.concatenate(terms, axis=1), np.concatenate(periods), np.concatenate(damps), "cqc"
         )
+        if pair.left_floor == 0 or pair.right_floor == 0:
+            # fixed-base modes do not describe a sliding base slab
+            cols["cqc_relative_spectral"] = np.full(n_rec, np.nan)
         u_el_a = end_values(pair, peak_cqc, "left")
         u_el_b = end_values(pair, peak_cqc, "right")
         if options.c_d is not None:

@@ -86,3 +86,12 @@ def test_laws_restitution_missing_e_is_exit_2():
     )
     assert res.exit_code == 2
     assert "needs e" in res.output
+
+
+def test_run_isolated_example_prints_base_displacement(tmp_path):
+    res = runner.invoke(
+        app, ["run", str(EXAMPLES / "base_isolated_moat.toml"), "-o", str(tmp_path / "i.nc")]
+    )
+    assert res.exit_code == 0, res.output
+    assert "peak base (bearing) displacement" in res.output
+    assert "energy dissipated by bearing friction" in res.output

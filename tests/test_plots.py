@@ -84,3 +84,19 @@ def test_heatmap_cells_are_medians(study):
         * 1e-6
     )
     np.testing.assert_allclose(texts, expected.values.ravel(), rtol=1e-5)
+
+
+def test_bearing_hysteresis_is_labelled_from_cf_attributes():
+    from pathlib import Path
+
+    from pounding import plots
+    from pounding.case import load_case
+    from pounding.simulate import simulate
+
+    case = load_case(Path(__file__).resolve().parents[1] / "examples" / "base_isolated_moat.toml")
+    ds = simulate(case, duration=3.0)
+    assert plots.isolated_buildings(ds) == ["A"]
+    fig = plots.bearing_hysteresis(ds)
+    ax = fig.axes[0]
+    assert "[m]" in ax.get_xlabel() and "[N]" in ax.get_ylabel()
+    assert 0.0 < plots.friction_share(ds) < 1.0

@@ -191,3 +191,22 @@ def test_report_of_a_study_whose_contact_runs_all_failed(tmp_path):
     html = _html(write_report(ds, tmp_path / "report", formats=["html"]))
     assert "ConvergenceError" in html
     assert [s.title for s in rep.sections][:2] == ["Study", "Model"]
+
+
+def test_isolated_analysis_report_has_the_bearing_section(tmp_path):
+    # issue 7 item 4: hysteresis loops of the bearings and base displacements in the report
+    from pathlib import Path
+
+    from pounding.case import load_case
+    from pounding.report import build_report, render_html
+    from pounding.simulate import simulate
+
+    case = load_case(Path(__file__).resolve().parents[1] / "examples" / "base_isolated_moat.toml")
+    ds = simulate(case, duration=4.0)
+    report = build_report(ds)
+    titles = [s.title for s in report.sections]
+    assert "Base isolation" in titles
+    section = report.sections[titles.index("Base isolation")]
+    assert sum(type(b).__name__ == "Plot" for b in section.blocks) == 2
+    html = render_html(report)
+    assert "Base isolation" in html and "hysteresis" in html

@@ -558,3 +558,25 @@ def test_design_spectrum_displacement_uses_g_to_si_at_the_edge():
     # a_g given in g: 0.3 g = 2.941995 m/s² reaches eurocode8_spectrum in SI
     opts = SeparationOptions(spectrum="ec8", a_g=0.3)
     assert opts.spectrum_parameters()["a_g"] == pytest.approx(0.3 * G)
+
+
+def test_base_slab_against_moat_walls():
+    # an isolated building's base slab (floor 0) facing its moat walls: the pair sits at ground level,
+    # the exact gap and the time-history estimates use the slab's own motion, and the fixed-base
+    # spectral estimates are not applicable (NaN) rather than silently the roof's
+    from pathlib import Path
+
+    from pounding.case import load_case
+    from pounding.records import resolve
+    from pounding.separation import facing_pairs, separation_analysis
+
+    case = load_case(Path(__file__).resolve().parents[1] / "examples" / "base_isolated_moat.toml")
+    pairs = facing_pairs(case.system)
+    assert all(p.left_elevation == 0.0 or p.right_elevation == 0.0 for p in pairs)
+    gm = resolve("ground-motions:kanai_tajimi_firm_seed1")[0]
+    ds = separation_analysis(case, [gm], duration=6.0)
+    table = ds["required_gap"] if "required_gap" in ds else None
+    assert table is not None
+    exact = table.sel(estimate="time_history")
+    assert np.all(np.isfinite(exact)) and float(exact.max()) > 0.0
+    assert np.all(np.isnan(table.sel(estimate="abs_spectral")))

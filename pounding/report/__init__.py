@@ -478,6 +478,33 @@ def _analysis_report(ds: xr.Dataset) -> Report:
             f"Energy ledger; balance error {100 * s['energy_balance_error']:.3g} % of the input energy.",
         )
     )
+    sections = [model, _ground_motion_section(ds, study=False), res]
+    isolated = plots.isolated_buildings(ds)
+    if isolated:
+        iso = Section("Base isolation")
+        peak = ds["peak_base_displacement"]
+        iso.blocks.append(
+            Table(
+                ["building", "peak base displacement [m]"],
+                [[b, _g(float(peak.sel(building=b)))] for b in isolated],
+                f"Energy dissipated by bearing friction: {100 * plots.friction_share(ds):.3g} % of the "
+                "input energy at the end of the record.",
+            )
+        )
+        iso.blocks.append(
+            Plot(
+                plots.base_displacements(ds),
+                "Base slab (bearing) displacement relative to the ground.",
+            )
+        )
+        iso.blocks.append(
+            Plot(
+                plots.bearing_hysteresis(ds),
+                "Bearing hysteresis loops: friction force (and friction plus the pendulum's restoring "
+                "force) against the base displacement.",
+            )
+        )
+        sections.append(iso)
     meta = [
         ("record", str(ds.attrs.get("record", ""))),
         ("method", str(ds.attrs.get("method", ""))),
@@ -485,12 +512,7 @@ def _analysis_report(ds: xr.Dataset) -> Report:
         ("output dt", f"{_g(ds.attrs.get('output_dt'))} s"),
         ("pounding", str(ds.attrs.get("pounding_version", __version__))),
     ]
-    return Report(
-        str(ds.attrs.get("title") or "Pounding analysis"),
-        "analysis",
-        [model, _ground_motion_section(ds, study=False), res],
-        meta,
-    )
+    return Report(str(ds.attrs.get("title") or "Pounding analysis"), "analysis", sections, meta)
 
 
 # --------------------------------------------------------------------------------------------------
