@@ -253,15 +253,21 @@ def case_from_dict(
     )
 
 
-def load_case(path: str | Path) -> Case:
-    """Read and validate a TOML case file."""
+def read_case_file(path: str | Path) -> dict[str, Any]:
+    """The parsed TOML of a case file (no validation yet); errors name the file."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no case file at {path}")
     try:
         with path.open("rb") as fh:
-            data = tomllib.load(fh)
+            return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{path}: not valid TOML: {exc}") from None
+
+
+def load_case(path: str | Path) -> Case:
+    """Read and validate a TOML case file."""
+    path = Path(path)
+    data = read_case_file(path)
     case = case_from_dict(data, base_dir=path.parent, source=str(path))
     return dataclasses.replace(case, path=path)

@@ -55,7 +55,6 @@ import multiprocessing
 import os
 import signal
 import time
-import tomllib
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -66,7 +65,7 @@ import xarray as xr
 
 from pounding import records
 from pounding._version import __version__
-from pounding.case import Case, CaseError, case_from_dict
+from pounding.case import Case, CaseError, case_from_dict, read_case_file
 from pounding.contact.laws import get_contact_law
 from pounding.ground_motion import GroundMotion
 from pounding.results import ATTRS
@@ -406,14 +405,7 @@ def load_study(path: str | Path) -> Study:
     """Read a case file with a ``[study]`` table (its ``[ground_motion]`` may be omitted when the
     study sweeps ``record``)."""
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"no case file at {path}")
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise StudyError(f"{path}: not valid TOML: {exc}") from None
-    return study_from_dict(data, base_dir=path.parent, source=str(path))
+    return study_from_dict(read_case_file(path), base_dir=path.parent, source=str(path))
 
 
 # --------------------------------------------------------------------------------------------------
