@@ -252,3 +252,84 @@ def test_ivp_output_grid_is_the_requested_one():
     gm = sine_pulse(amplitude=1.0, period=0.5, duration=1.0, dt=0.01)
     ds = simulate(system, gm, method="ivp", output_dt=1e-3)
     assert float(ds["time"][1] - ds["time"][0]) == pytest.approx(1e-3)
+
+
+@pytest.mark.parametrize("law", ["linear", "hertz", "lankarani_nikravesh", "jankowski", "bilinear"])
+def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law):
+    """The contact step condensed onto the gaps (Newton on the C gap openings, then one update of
+    u1) solves the full n-dof HHT step, M a1 + w(C v1 + K u1 + B f1) − α(C v + K u + B f0) =
+    −M ι g_eff, written out here with the Newmark relations and the laws' Python kernels."""
+    from pounding.integrators import _kernels as kn
+
+    a_bld = ShearBuilding.uniform("A", 3, period=0.3, mass=2.0e5)
+    b_bld = ShearBuilding.uniform("B", 5, period=0.8, mass=2.0e5)
+    params = {"k": 2.75e9 if law != "linear" else 2.0e9}
+    if law in ("lankarani_nikravesh", "jankowski", "bilinear"):
+        params["e"] = 0.65
+    if law == "bilinear":
+        params["delta_m"] = 0.002
+    system = assemble([a_bld, b_bld], [Contact("A", "B", 0.01, law, **params)])
+    el = system.elements
+    n, n_el = system.n_dof, len(el)
+    M, C, K, iota = system.mass, system.damping, system.stiffness, system.influence
+    sch = get_scheme("hht", alpha=-0.1)
+    gamma, beta, alpha = sch.gamma, sch.beta, sch.alpha
+    hs, w = 2.0e-4, 1.0 + sch.alpha
+    rng = np.random.default_rng(7)
+    # a state inside the impacts: A's lower floors 1-2 mm into B, closing at 0.3-0.5 m/s
+    u = np.zeros(n)
+    v = np.zeros(n)
+    u[:3] = 0.011 + rng.uniform(0.0, 1e-3, 3)
+    v[:3] = 0.4 + rng.uniform(-0.1, 0.1, 3)
+    a = rng.normal(0.0, 2.0, n)
+    d0 = el.el_sign[:, 0] * u[el.el_dof[:, 0]] + el.el_sign[:, 1] * u[el.el_dof[:, 1]] - el.el_gap
+    dd0 = el.el_sign[:, 0] * v[el.el_dof[:, 0]] + el.el_sign[:, 1] * v[el.el_dof[:, 1]]
+    kernels = [LAWS_BY_ID[i].kernel for i in el.el_law]
+    v0 = np.maximum(dd0, 0.1)
+    f0 = np.array(
+        [kernels[c](d0[c], dd0[c], v0[c], 0.0, 0.0, el.el_params[c])[0] for c in range(n_el)]
+    )
+    assert np.all(f0 > 0)
+    ag, ag_dt, t = np.array([0.0, 2.0, -1.0, 0.5]), 0.01, 0.012
+    g0 = np.interp(t, ag_dt * np.arange(4), ag)
+    g1 = np.interp(t + hs, ag_dt * np.arange(4), ag)
+    g_eff = w * g1 - alpha * g0
+    Mi = M @ iota
+    Q, pg = kn._dense_map(hs, M, C, K, Mi, gamma, beta, alpha)
+    u1, v1, a1 = np.zeros(n), np.zeros(n), np.zeros(n)
+    kn._dense_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+    J = M / (beta * hs**2) + w * (gamma / (beta * hs) * C + K)
+    Z, S = np.zeros((n, n_el)), np.zeros((n_el, n_el))
+    kn._condense_map(np.linalg.inv(J), el.el_dof, el.el_sign, Z, S)
+    d1, dd1, f1, kd1, cd1 = (np.zeros(n_el) for _ in range(5))
+    ok, its = kn._contact_step(
+        Z, S, hs, gamma, beta, alpha, u, u1, v1, a1, el.el_dof, el.el_sign, el.el_gap, el.el_law,
+        el.el_params, np.ones(n_el, dtype=bool), v0, d0, f0, np.zeros(n_el, dtype=bool), f0,
+        1e-12, 25, np.zeros(n_el), np.zeros(n_el), np.zeros((n_el, n_el + 1)), d1, dd1, f1, kd1, cd1,
+    )  # fmt: skip
+    assert ok and 1 <= its <= 8
+    # the full step equations, independently
+    a_new = (u1 - u) / (beta * hs**2) - v / (beta * hs) - (0.5 / beta - 1.0) * a
+    v_new = v + hs * ((1.0 - gamma) * a + gamma * a_new)
+    np.testing.assert_allclose(a1, a_new, rtol=1e-8, atol=1e-6)
+    np.testing.assert_allclose(v1, v_new, rtol=1e-8, atol=1e-9)
+    d_new = (
+        el.el_sign[:, 0] * u1[el.el_dof[:, 0]] + el.el_sign[:, 1] * u1[el.el_dof[:, 1]] - el.el_gap
+    )
+    dd_new = el.el_sign[:, 0] * v_new[el.el_dof[:, 0]] + el.el_sign[:, 1] * v_new[el.el_dof[:, 1]]
+    f_new = np.array(
+        [
+            kernels[c](d_new[c], dd_new[c], v0[c], d0[c], f0[c], el.el_params[c])[0]
+            for c in range(n_el)
+        ]
+    )
+    np.testing.assert_allclose(d1, d_new, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(f1, f_new, rtol=1e-7)
+    B = np.zeros((n, n_el))
+    for c in range(n_el):
+        for s in range(2):
+            if el.el_dof[c, s] >= 0:
+                B[el.el_dof[c, s], c] = el.el_sign[c, s]
+    residual = M @ a_new + w * (C @ v_new + K @ u1 + B @ f_new) - alpha * (C @ v + K @ u + B @ f0)
+    residual += Mi * g_eff
+    assert np.abs(residual).max() <= 1e-8 * np.abs(B @ f_new).max()

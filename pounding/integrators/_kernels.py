@@ -15,6 +15,11 @@ def jit(func):
     return numba.njit(cache=True, fastmath=False)(func)
 
 
+def jit_inline(func):
+    """:func:`jit`, inlined into its callers by numba (no call boundary to pass arrays across)."""
+    return numba.njit(cache=True, fastmath=False, inline="always")(func)
+
+
 # --------------------------------------------------------------------------------------------------
 # Contact laws: compiled from the single definitions in pounding.contact.laws
 # --------------------------------------------------------------------------------------------------
@@ -34,7 +39,7 @@ bilinear_rate = jit(_laws.bilinear_rate)
 BILINEAR_ID = _laws.CONTACT_LAWS["bilinear"].kernel_id
 
 
-@jit
+@jit_inline
 def contact_eval(law, d, dd, v0, d_prev, f_prev, p):
     """Force and tangents of the law with kernel id ``law`` (ids of pounding.contact.laws.LAWS_BY_ID)."""
     if law == 0:
@@ -361,14 +366,16 @@ def _band_matvec_add(Ab, bw, x, scale, out):
 
 @jit
 def _band_quadratic(Ab, bw, x):
-    """xᵀ A x for A in band rows."""
+    """xᵀ A x for A in band rows, one diagonal at a time (each a plain loop the compiler vectorises;
+    row-wise loops with clipped bounds cost several times more at these sizes)."""
     n = x.size
     total = 0.0
-    for i in range(n):
-        row = 0.0
-        for k in range(max(0, bw - i), min(2 * bw + 1, n - i + bw)):
-            row += Ab[i, k] * x[i - bw + k]
-        total += x[i] * row
+    for k in range(2 * bw + 1):
+        off = k - bw
+        acc = 0.0
+        for i in range(max(0, -off), min(n, n - off)):
+            acc += Ab[i, k] * x[i] * x[i + off]
+        total += acc
     return total
 
 
@@ -422,7 +429,7 @@ def _tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha):
     return c0 * Mb + (1.0 + alpha) * (c1 * Cb + Kb)
 
 
-@jit
+@jit_inline
 def _solve_small(S, m):
     """Solve the m × m system in S[:m, :m] for the right-hand side in S's last column, in place
     (Gaussian elimination with partial pivoting). Returns False when it is singular."""
@@ -805,7 +812,7 @@ def _linear_step_coulomb(Mb, Cb, Kb, bw, L, D, Q, pg, Mi, g_eff, hs, gamma, beta
         v1[i] = c1 * du - c4 * v[i] - c5 * a[i]
 
 
-@jit
+@jit_inline
 def _gaps(u1, v1, el_dof, el_sign, el_gap, d, dd):
     """δ and δ̇ of every element from the system's sign arrays; True when any gap is closed."""
     closed = False
@@ -822,6 +829,118 @@ def _gaps(u1, v1, el_dof, el_sign, el_gap, d, dd):
         if dc > 0.0:
             closed = True
     return closed
+
+
+@jit
+def _condense_map(J_inv, el_dof, el_sign, Z, S):
+    """Z = J⁻¹ B (n × C) and S = Bᵀ J⁻¹ B (C × C), B the gap elements' sign columns: how contact
+    forces move every dof and every gap through one step of the linear system (in place)."""
+    n = J_inv.shape[0]
+    n_el = Z.shape[1]
+    for c in range(n_el):
+        for i in range(n):
+            z = 0.0
+            for s in range(2):
+                k = el_dof[c, s]
+                if k >= 0:
+                    z += J_inv[i, k] * el_sign[c, s]
+            Z[i, c] = z
+    for r in range(n_el):
+        for c in range(n_el):
+            acc = 0.0
+            for s in range(2):
+                k = el_dof[r, s]
+                if k >= 0:
+                    acc += el_sign[r, s] * Z[k, c]
+            S[r, c] = acc
+
+
+@jit
+def _contact_step(Z, S, hs, gamma, beta, alpha, u, u1, v1, a1, el_dof, el_sign, el_gap, el_law,
+                  el_params, el_in, el_v0, el_hd, el_hf, el_off, f0, tol, max_iter, d_lin, dd_lin,
+                  Sm, d1, dd1, f1, kd1, cd1):  # fmt: skip
+    """A step with gap elements, condensed onto the gaps. On entry (u1, v1, a1) is the step of the
+    linear system (no new contact force); Z and S are :func:`_condense_map` of the tangent that step
+    used. The structure is linear apart from the contact forces, so the end of the step is
+
+        u1 = u_lin + Z (α f0 − w f1),   δ = δ_lin + S (α f0 − w f1),   δ̇ = δ̇_lin + c1 (δ − δ_lin),
+
+    and Newton runs on the C gap openings alone (C × C systems, no n × n work per iteration) before
+    one O(nC) update of u1, v1, a1. Returns (ok, Newton iterations), as :func:`_newton`."""
+    n = u.size
+    n_el = el_gap.size
+    c0 = 1.0 / (beta * hs * hs)
+    c1 = gamma / (beta * hs)
+    w = 1.0 + alpha
+    rhs_col = Sm.shape[1] - 1
+    _gaps(u1, v1, el_dof, el_sign, el_gap, d_lin, dd_lin)
+    u_scale = 1e-3
+    for i in range(n):
+        u_scale = max(u_scale, abs(u[i]), abs(u1[i]))
+    tol_d = tol * u_scale
+    # start from the forces of the step start (f1 ≈ f0 inside a contact, 0 outside)
+    for c in range(n_el):
+        acc = d_lin[c]
+        for q in range(n_el):
+            acc -= S[c, q] * f0[q]
+        d1[c] = acc
+    ok = False
+    n_it = max_iter
+    small = False
+    prev_active = True
+    for it in range(max_iter + 1):
+        active = False
+        for c in range(n_el):
+            dd1[c] = dd_lin[c] + c1 * (d1[c] - d_lin[c])
+            if el_off[c]:
+                f1[c] = 0.0
+                kd1[c] = 0.0
+                cd1[c] = 0.0
+                continue
+            v0 = el_v0[c] if el_in[c] else max(dd1[c], 0.0)
+            pc = (el_params[c, 0], el_params[c, 1], el_params[c, 2], el_params[c, 3])
+            fc, kc, cc = contact_eval(el_law[c], d1[c], dd1[c], v0, el_hd[c], el_hf[c], pc)
+            f1[c] = fc
+            kd1[c] = kc
+            cd1[c] = cc
+            if fc != 0.0 or kc != 0.0:
+                active = True
+        if it > 0 and (small or (not active and not prev_active)):
+            ok = True
+            n_it = it
+            break
+        if it == max_iter:
+            n_it = it
+            break
+        prev_active = active
+        # r = δ − δ_lin − S (α f0 − w f1),  ∂r/∂δ = I + w S diag(k + c1 c)
+        for r in range(n_el):
+            acc = d1[r] - d_lin[r]
+            for q in range(n_el):
+                acc -= S[r, q] * (alpha * f0[q] - w * f1[q])
+                Sm[r, q] = w * S[r, q] * (kd1[q] + c1 * cd1[q])
+            Sm[r, r] += 1.0
+            Sm[r, rhs_col] = -acc
+        if not _solve_small(Sm, n_el):
+            n_it = it
+            break
+        big = 0.0
+        for c in range(n_el):
+            d1[c] += Sm[c, rhs_col]
+            big = max(big, abs(Sm[c, rhs_col]))
+        if not math.isfinite(big):
+            n_it = it
+            break
+        small = big <= tol_d
+    if ok:
+        for i in range(n):
+            acc = 0.0
+            for c in range(n_el):
+                acc += Z[i, c] * (alpha * f0[c] - w * f1[c])
+            u1[i] += acc
+            v1[i] += c1 * acc
+            a1[i] += c0 * acc
+    return ok, n_it
 
 
 @jit
@@ -962,6 +1081,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     Mb = to_band(M, bw)
     Cb = to_band(C, bw)
     Kb = to_band(K, bw)
+    CbT = np.ascontiguousarray(Cb.T)
     L_h, D_h = band_ldl(_tangent_band(h, Mb, Cb, Kb, gamma, beta, alpha), bw)
     lin = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
     dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
@@ -972,11 +1092,23 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
         pg = np.zeros(0)
     h_contact = h
     grade = 0
-    J_inv_c = J_inv
-    L_c = L_h
-    D_c = D_h
+    # the contact step size's tangent: filled in place (arrays reassigned inside the loop would cost
+    # reference-count traffic on every step)
+    J_inv_c = J_inv.copy()
+    L_c = L_h.copy()
+    D_c = D_h.copy()
     h_inv_c = h
     work = np.zeros((4, max(n, n_x)))
+    # the contact step condensed onto the gaps (no friction elements): Z, S of the base step and of
+    # the current contact step size
+    Zh = np.zeros((n, n_el))
+    Sh = np.zeros((n_el, n_el))
+    _condense_map(J_inv, el_dof, el_sign, Zh, Sh)
+    Zc = Zh.copy()
+    Sc = Sh.copy()
+    d_lin = np.zeros(n_el)
+    dd_lin = np.zeros(n_el)
+    Sm = np.zeros((max(n_el, 1), max(n_el, 1) + 1))
     Z = np.zeros((n, max(n_x, 1)))
     S = np.zeros((max(n_x, 1), max(n_x, 1) + 1))
     # initial gaps (a contact may start closed when a gap is 0)
@@ -998,6 +1130,8 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     p_f0 = 0.0
     cap = imp_el.size
     t = 0.0
+    # ground acceleration at the step start, carried from the last accepted step end
+    g_start = ground_at(ag, ag_dt, 0.0)
     _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, Mb, Kb, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st)  # fmt: skip
     for k in range(n_steps):
@@ -1017,11 +1151,11 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 hs = h  # a full base step: (k + 1) h − k h is not bit-equal to h
             ok = True
             its = 0
+            t_g = t + hs
+            g_tg = ground_at(ag, ag_dt, t_g)
             if not in_contact and hs == h and fr_linear:
                 # open gaps, Coulomb slabs stuck or sliding: the exact linear step
-                g_eff = (1.0 + alpha) * ground_at(ag, ag_dt, t + hs) - alpha * ground_at(
-                    ag, ag_dt, t
-                )
+                g_eff = (1.0 + alpha) * g_tg - alpha * g_start
                 if n_fr == 0:
                     if Q.shape[0] == n:
                         _dense_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
@@ -1035,7 +1169,12 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 closed = _gaps(u1, v1, el_dof, el_sign, el_gap, d1, dd1)
                 for c in range(n_el):
                     f1[c] = 0.0
-                if closed and not locate_onset:
+                if closed and not locate_onset and n_fr == 0:
+                    ok, its = _contact_step(Zh, Sh, hs, gamma, beta, alpha, u, u1, v1, a1, el_dof,
+                                            el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd,
+                                            el_hf, none_off, f0, tol, max_iter, d_lin, dd_lin, Sm,
+                                            d1, dd1, f1, kd1, cd1)  # fmt: skip
+                elif closed and not locate_onset:
                     ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                                       el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd,
                                       el_hf, none_off, fr_dof, fr_kind, fr_law, fr_params, fr_bw,
@@ -1044,21 +1183,53 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             else:
                 if in_contact and abs(hs - h_contact) <= 1e-8 * h_contact and h_inv_c != h_contact:
                     # a new contact step size: its tangent inverse serves every step of the impact
-                    J_inv_c = np.linalg.inv(
+                    J_inv_c[:] = np.linalg.inv(
                         (1.0 / (beta * hs * hs)) * M + w * ((gamma / (beta * hs)) * C + K)
                     )
-                    L_c, D_c = band_ldl(_tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha), bw)
+                    L_new, D_new = band_ldl(_tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha), bw)
+                    L_c[:] = L_new
+                    D_c[:] = D_new
                     h_inv_c = hs
+                    _condense_map(J_inv_c, el_dof, el_sign, Zc, Sc)
                 use_c = abs(hs - h_inv_c) <= 1e-8 * h_inv_c
-                J_use = J_inv_c if use_c else J_inv
-                L_use = L_c if use_c else L_h
-                D_use = D_c if use_c else D_h
-                h_use = h_inv_c if use_c else h
-                ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
-                                  el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd,
-                                  el_hf, open_off, fr_dof, fr_kind, fr_law, fr_params, fr_bw,
-                                  fr_normal, fr_state, tol, max_iter, J_use, L_use, D_use, h_use, Mb, Cb, Kb, bw, dense, work, Z, S,
-                                  u1, v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
+                if use_c:
+                    hs = h_inv_c  # the step whose stored tangent serves it, exactly
+                    t_g = t + hs
+                    g_tg = ground_at(ag, ag_dt, t_g)
+                if n_fr == 0 and (hs == h or use_c):
+                    # the linear step, then Newton on the gaps alone
+                    g_eff = (1.0 + alpha) * g_tg - alpha * g_start
+                    if hs == h:
+                        if Q.shape[0] == n:
+                            _dense_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+                        else:
+                            _linear_step(Mb, Cb, Kb, bw, L_h, D_h, Mi, g_eff, hs, gamma, beta,
+                                         alpha, u, v, a, u1, v1, a1, lin)  # fmt: skip
+                        ok, its = _contact_step(Zh, Sh, hs, gamma, beta, alpha, u, u1, v1, a1,
+                                                el_dof, el_sign, el_gap, el_law, el_params, el_in,
+                                                el_v0, el_hd, el_hf, open_off, f0, tol, max_iter,
+                                                d_lin, dd_lin, Sm, d1, dd1, f1, kd1, cd1)  # fmt: skip
+                    else:
+                        _linear_step(Mb, Cb, Kb, bw, L_c, D_c, Mi, g_eff, hs, gamma, beta, alpha,
+                                     u, v, a, u1, v1, a1, lin)  # fmt: skip
+                        ok, its = _contact_step(Zc, Sc, hs, gamma, beta, alpha, u, u1, v1, a1,
+                                                el_dof, el_sign, el_gap, el_law, el_params, el_in,
+                                                el_v0, el_hd, el_hf, open_off, f0, tol, max_iter,
+                                                d_lin, dd_lin, Sm, d1, dd1, f1, kd1, cd1)  # fmt: skip
+                elif use_c:
+                    ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta,
+                                      alpha, el_dof, el_sign, el_gap, el_law, el_params, el_in,
+                                      el_v0, el_hd, el_hf, open_off, fr_dof, fr_kind, fr_law,
+                                      fr_params, fr_bw, fr_normal, fr_state, tol, max_iter, J_inv_c,
+                                      L_c, D_c, h_inv_c, Mb, Cb, Kb, bw, dense, work, Z, S, u1, v1,
+                                      a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
+                else:
+                    ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta,
+                                      alpha, el_dof, el_sign, el_gap, el_law, el_params, el_in,
+                                      el_v0, el_hd, el_hf, open_off, fr_dof, fr_kind, fr_law,
+                                      fr_params, fr_bw, fr_normal, fr_state, tol, max_iter, J_inv,
+                                      L_h, D_h, h, Mb, Cb, Kb, bw, dense, work, Z, S, u1, v1, a1, d1,
+                                      dd1, f1, kd1, cd1, R, J)  # fmt: skip
             counters[CNT_NEWTON] += its
             if not ok:
                 halvings += 1
@@ -1119,7 +1290,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                         if closing[c] and d1[c] < -LOCATE_TOL:
                             closing[c] = False
             t1 = t + hs
-            g1 = ground_at(ag, ag_dt, t1)
+            g1 = g_tg if t1 == t_g else ground_at(ag, ag_dt, t1)
             fr_restart = False
             if n_coulomb > 0:
                 # Coulomb stick-slip: the earliest turn-back of a sliding slab or break-away of a
@@ -1253,7 +1424,13 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             p_in1 = 0.0
             for i in range(n):
                 p_in1 -= v1[i] * Mi[i] * g1
-            p_d1 = _band_quadratic(Cb, bw, v1)
+            p_d1 = 0.0
+            for kb in range(2 * bw + 1):
+                off = kb - bw
+                acc = 0.0
+                for i in range(max(0, -off), min(n, n - off)):
+                    acc += CbT[kb, i] * v1[i] * v1[i + off]
+                p_d1 += acc
             p_c1 = 0.0
             for c in range(n_el):
                 p_c1 += f1[c] * dd1[c]
@@ -1380,6 +1557,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 fr_state[kk, FS_F0] = fr_state[kk, FS_F1]
                 fr_state[kk, FS_Z0] = fr_state[kk, FS_Z1]
             t = t1
+            g_start = g1
         if (k + 1) % out_every == 0:
             _store((k + 1) // out_every, t_next, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr,
                    Mb, Kb, bw, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
