@@ -16,7 +16,7 @@ Same scheme in both (Newmark γ = 1/2, β = 1/4, Newton), same fixed dt (poundin
 ``adaptive=False``), same Rayleigh damping of the buildings and none on the contacts, same record
 (linear between samples), both from rest with zero initial acceleration.
 
-    python benchmarks/compare_opensees.py            # models a and b, 7 laws, dt 1e-3, 5e-4, 1e-4 (~7 min)
+    python benchmarks/compare_opensees.py            # models a and b, 7 laws, dt 1e-3, 5e-4, 1e-4 (~5 min)
     python benchmarks/compare_opensees.py --quick    # model b, 3 laws, dt 1e-3 and 1e-4, 1 repeat
 """
 

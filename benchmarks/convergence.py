@@ -19,7 +19,7 @@ Runs: Newmark average acceleration at fixed steps (``adaptive=False``), the defa
 (``simulate(system, record)`` with no options: the step control of pounding.simulate), and ivp
 at a range of rtol (default rtol 1e-8). Plots mark the defaults.
 
-    python benchmarks/convergence.py           # 12 laws, 7 steps, 6 tolerances (~6.5 min)
+    python benchmarks/convergence.py           # 12 laws, 7 steps, 6 tolerances (~3 min)
     python benchmarks/convergence.py --quick   # 4 laws, 4 steps, 3 tolerances
 """
 

