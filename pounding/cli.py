@@ -449,11 +449,16 @@ def study(
 @app.command()
 @user_errors
 def report(
-    result: str = typer.Argument(..., help="A result (pounding run) or a study (pounding study)."),
+    result: str = typer.Argument(
+        ...,
+        help="A result (pounding run), a study (pounding study) or a separation check "
+        "(pounding separation -o).",
+    ),
     output: str = typer.Option(..., "-o", "--output", help="Directory to write the report into."),
     formats: str = typer.Option("html,pdf", "--format", help="Comma-separated: html, pdf."),
 ) -> None:
-    """Write an HTML (self-contained) and/or PDF report of an analysis or a study."""
+    """Write an HTML (self-contained) and/or PDF report of an analysis, a study or a separation
+    check."""
     from pounding.report import FORMATS, write_report
     from pounding.results import open_result
 

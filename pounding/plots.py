@@ -1,6 +1,7 @@
 """Figures of pounding results and studies, labelled from the CF attributes of the Dataset.
 
-Every function takes a Dataset (from :func:`pounding.simulate` or :func:`pounding.studies.run_study`)
+Every function takes a Dataset (from :func:`pounding.simulate`, :func:`pounding.studies.run_study` or,
+for :func:`required_gaps` and :func:`pounding_probability`, :func:`pounding.separation.separation_analysis`)
 and returns a :class:`matplotlib.figure.Figure` without touching pyplot's global state, so figures can
 be made in any thread or process and saved in any format (the reports use SVG and PDF). Axis labels
 are ``long_name [units]`` of the plotted variable (:func:`label`), as xarray's own plots do.
@@ -581,4 +582,63 @@ def study_histories(runs: Sequence[tuple[str, xr.Dataset]], building: str) -> Fi
         ax.set_ylabel(label(ds["displacement"], f"roof displacement of {building}"))
     ax.legend(fontsize="x-small", ncol=2)
     ax.grid(True, alpha=0.3)
+    return fig
+
+
+# --------------------------------------------------------------------------------------------------
+# Separation distance (a Dataset of pounding.separation.separation_analysis)
+# --------------------------------------------------------------------------------------------------
+
+
+def required_gaps(ds: xr.Dataset) -> Figure:
+    """Required separation per estimate (rows) for every interface (panels): the median over the
+    records as a bar, the 84th percentile and the largest value as markers."""
+    interfaces = [str(f) for f in ds["interface"].values]
+    stat = ds["required_gap_statistic"]
+    labels = [str(x) for x in ds["estimate_label"].values]
+    n_est = len(labels)
+    fig, axes = _figure(1.3 + 0.32 * n_est, ncols=len(interfaces), sharey=True)
+    y = np.arange(n_est)[::-1]
+    for ax, f in zip(axes[0], interfaces, strict=True):
+        s = stat.sel(interface=f)
+        ax.barh(y, s.sel(statistic="median"), color="C0", alpha=0.7, label="median")
+        if ds.sizes["record"] > 1:
+            ax.plot(s.sel(statistic="p84"), y, "k|", ms=10, label="84th percentile")
+            ax.plot(s.sel(statistic="max"), y, "rx", ms=5, label="largest")
+        target = float(ds["gap_for_target_probability"].sel(interface=f))
+        if np.isfinite(target):
+            p = float(ds.attrs.get("target_probability", np.nan))
+            ax.axvline(target, color="C2", ls="--", lw=1, label=f"lognormal, P = {p:.3g}")
+        ax.set_title(f"interface {f}", fontsize=9)
+        ax.set_xlabel(label(stat, "required gap"))
+        ax.grid(axis="x", alpha=0.3)
+        ax.set_xlim(left=0.0)
+    axes[0, 0].set_yticks(y, labels, fontsize=7)
+    handles, names = axes[0, -1].get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", ncols=len(names), fontsize=7)
+    return fig
+
+
+def pounding_probability(ds: xr.Dataset) -> Figure:
+    """Probability of pounding against the gap, one panel per interface: the fraction of records
+    whose exact gap exceeds it (steps), the lognormal fit, and the gap of the target probability."""
+    interfaces = [str(f) for f in ds["interface"].values]
+    fig, axes = _figure(2.8, ncols=len(interfaces), sharey=True)
+    gap = ds["gap"]
+    p = float(ds.attrs.get("target_probability", np.nan))
+    for ax, f in zip(axes[0], interfaces, strict=True):
+        emp = ds["pounding_probability"].sel(interface=f)
+        ax.step(gap, emp, where="post", color="C0", label="fraction of records")
+        ax.plot(gap, ds["pounding_probability_lognormal"].sel(interface=f), "C1", label="lognormal")
+        target = float(ds["gap_for_target_probability"].sel(interface=f))
+        if np.isfinite(p):
+            ax.axhline(p, color="0.5", ls=":", lw=1)
+        if np.isfinite(target):
+            ax.axvline(target, color="C2", ls="--", lw=1, label=f"P = {p:.3g}: {target:.4g} m")
+        ax.set_title(f"interface {f}", fontsize=9)
+        ax.set_xlabel(label(gap, "gap"))
+        ax.set_ylim(-0.02, 1.02)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0, 0].set_ylabel(label(ds["pounding_probability"], "probability of pounding"))
     return fig

@@ -1250,6 +1250,7 @@ def separation_analysis(
     ds.attrs.update(
         {
             "title": case.title,
+            "pounding_kind": "separation",
             "pounding_version": __version__,
             "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
             "Conventions": "CF-1.8",

@@ -1,4 +1,5 @@
-"""Reports of an analysis or a study: one self-contained HTML file and a PDF with the same content.
+"""Reports of an analysis, a study or a separation check: one self-contained HTML file and a PDF with
+the same content.
 
 :func:`build_report` turns a result Dataset into a :class:`Report` (sections of paragraphs, tables
 and figures); :func:`render_html` renders it with the package's Jinja2 template (autoescaped, figures
@@ -9,7 +10,10 @@ Sections of an analysis: model (buildings, periods and mode shapes, contacts wit
 effective restitution), ground motion (time history, response spectrum, processing chain, intensity
 measures), results (displacement histories with impacts, envelopes, contact forces, force–penetration
 loops, impacts, energy ledger). A study adds the sweep (axes, failures) and the comparison of the
-laws across the axes and records (amplification plots, heat maps, median/dispersion tables).
+laws across the axes and records (amplification plots, heat maps, median/dispersion tables). A
+separation check (:func:`pounding.separation.separation_analysis`) gives the buildings' modes, the
+method, and per interface the required gap of every estimate, the probability of pounding against
+the gap and the exact gap of every record.
 """
 
 from __future__ import annotations
@@ -79,7 +83,7 @@ class Section:
 @dataclasses.dataclass
 class Report:
     title: str
-    kind: str  # "analysis" or "study"
+    kind: str  # "analysis", "study" or "separation"
     sections: list[Section]
     meta: list[tuple[str, str]]
 
@@ -516,6 +520,110 @@ def _analysis_report(ds: xr.Dataset) -> Report:
 
 
 # --------------------------------------------------------------------------------------------------
+# Separation checks
+# --------------------------------------------------------------------------------------------------
+
+
+def _separation_report(ds: xr.Dataset) -> Report:
+    from pounding.separation import separation_summary
+
+    s = separation_summary(ds)
+    n_modes = min(3, ds.sizes["mode"])
+    period = ds["natural_period"]
+    zeta = ds["modal_damping_ratio"]
+    bld = Section("Buildings")
+    bld.blocks.append(
+        Table(
+            ["building", *[f"T{m} [s]" for m in range(1, n_modes + 1)], "ζ1 [-]"],
+            [
+                [
+                    str(b),
+                    *[_g(float(period.sel(building=b).isel(mode=m))) for m in range(n_modes)],
+                    _g(float(zeta.sel(building=b).isel(mode=0)), 3),
+                ]
+                for b in ds["building"].values
+            ],
+            "Natural periods and the first mode's damping ratio (modes beyond a building's own "
+            "floors are empty).",
+        )
+    )
+    method = Section("Method")
+    records = s["records"]
+    shown = ", ".join(records[:10]) + (
+        f" and {len(records) - 10} more" if len(records) > 10 else ""
+    )
+    method.blocks.append(
+        f"{len(records)} record{'s' if len(records) != 1 else ''}: {shown}. Exact gaps: time "
+        f"histories without contact ({s['method']}, dt {_g(s['dt'])} s), the largest approach of "
+        "facing floors over every integration step. Spectral and code estimates: "
+        f"{s['spectrum']}. Probability of pounding: the fraction of records whose exact gap "
+        "exceeds a given gap, and a lognormal fit of the exact gaps (maximum likelihood; Lin & "
+        f"Weng 2001) read at the target probability {_g(s['target_probability'], 3)}."
+    )
+    sections = [bld, method]
+    for f in s["interfaces"]:
+        sec = Section(f"Interface {f['name']}")
+        sec.blocks.append(f"Facing pairs: {', '.join(f['pairs'])}.")
+        sec.blocks.append(
+            Table(
+                ["required gap", "median [m]", "84th percentile [m]", "largest [m]", "basis"],
+                [
+                    [
+                        str(r["label"]),
+                        _g(r["median"]),
+                        "–" if math.isnan(r["p84"]) else _g(r["p84"]),
+                        "–" if math.isnan(r["max"]) else _g(r["max"]),
+                        str(r["basis"]),
+                    ]
+                    for r in f["table"]
+                ],
+                "Statistics over the records; an estimate a record cannot give is left out of them.",
+            )
+        )
+        ln = f["lognormal"]
+        sec.blocks.append(
+            f"Lognormal fit of the exact gaps: median {_g(ln['median'])} m, β {_g(ln['beta'], 3)}, "
+            f"{_g(100 * ln['fraction'], 3)} % of the records approach at all; gap with "
+            f"P(pounding) = {_g(s['target_probability'], 3)}: {_g(ln['gap_for_target'])} m."
+        )
+        sections.append(sec)
+    figures = Section("Comparison")
+    figures.blocks.append(
+        Plot(
+            plots.required_gaps(ds),
+            "Required separation of every estimate: median over the records (bar), 84th percentile "
+            "and largest (markers), and the lognormal gap at the target probability (dashed).",
+        )
+    )
+    figures.blocks.append(
+        Plot(
+            plots.pounding_probability(ds),
+            "Probability of pounding against the clear gap: fraction of records (steps) and "
+            "lognormal fit.",
+        )
+    )
+    gaps = Table(
+        ["record", *[f"{f['name']} [m]" for f in s["interfaces"]]],
+        [
+            [rec, *[_g(f["exact_gaps"][i]) for f in s["interfaces"]]]
+            for i, rec in enumerate(records[:_MAX_ROWS])
+        ],
+        "The largest approach of the facing floors of each interface without contact"
+        + (f"; first {_MAX_ROWS} of {len(records)} records." if len(records) > _MAX_ROWS else "."),
+    )
+    sections.append(figures)
+    sections.append(Section("Exact gaps per record", [gaps]))
+    meta = [
+        ("records", str(len(records))),
+        ("method", s["method"]),
+        ("dt", f"{_g(s['dt'])} s"),
+        ("target probability of pounding", _g(s["target_probability"], 3)),
+        ("pounding", str(ds.attrs.get("pounding_version", __version__))),
+    ]
+    return Report(s["title"] or "Separation distance", "separation", sections, meta)
+
+
+# --------------------------------------------------------------------------------------------------
 # Studies
 # --------------------------------------------------------------------------------------------------
 
@@ -762,8 +870,15 @@ def _study_report(ds: xr.Dataset, store: Path | None) -> Report:
     return Report(str(ds.attrs.get("title") or "Pounding study"), "study", sections, meta)
 
 
+def _is_separation(ds: xr.Dataset) -> bool:
+    # files written before the kind attribute was recorded are recognised by their variables
+    kind = ds.attrs.get("pounding_kind")
+    return kind == "separation" or (kind is None and "required_gap_statistic" in ds)
+
+
 def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:
-    """The report of an analysis (from :func:`pounding.simulate`) or of a study.
+    """The report of an analysis (from :func:`pounding.simulate`), a study, or a separation check
+    (from :func:`pounding.separation.separation_analysis`).
 
     ``store`` is the study's run store (default the one recorded in the Dataset) for the kept
     time histories.
@@ -772,10 +887,13 @@ def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:
         if ds.attrs.get("pounding_kind") == "study":
             path = Path(store) if store is not None else Path(ds.attrs.get("store", ""))
             return _study_report(ds, path if str(path) else None)
+        if _is_separation(ds):
+            return _separation_report(ds)
         if "displacement" in ds and "time" in ds.dims:
             return _analysis_report(ds)
     raise ValueError(
-        "report: the Dataset is neither an analysis (pounding run) nor a study (pounding study)"
+        "report: the Dataset is none of an analysis (pounding run), a study (pounding study) or a "
+        "separation check (pounding separation)"
     )
 
 
@@ -837,6 +955,8 @@ class _PageWriter:
     """Text and tables laid out top to bottom on A4 pages of a PdfPages."""
 
     W, H, MARGIN = 8.27, 11.69, 0.6
+    #: widest table line [characters]: 6.2 pt monospace across the page
+    MAX_CHARS = 135
 
     def __init__(self, pdf: PdfPages) -> None:
         self.pdf = pdf
@@ -888,15 +1008,24 @@ class _PageWriter:
             else [[h] for h in table.header]
         )
         widths = [min(max(len(str(c)) for c in col), 48) for col in cols]
-
-        def fmt(row: Sequence[str]) -> str:
-            return "  ".join(str(c)[:w].ljust(w) for c, w in zip(row, widths, strict=True))
-
+        # narrow the widest columns until the table fits at a legible size; long cells wrap
+        while sum(widths) + 2 * (len(widths) - 1) > self.MAX_CHARS and max(widths) > 12:
+            widths[widths.index(max(widths))] -= 1
         total = sum(widths) + 2 * (len(widths) - 1)
         size = min(8.0, (self.W - 2 * self.MARGIN) * 72 / (0.61 * max(total, 1)))
-        self.line(fmt(table.header), size, weight="bold", family="monospace", gap=0.05)
+
+        def emit(row: Sequence[str], **kw: Any) -> None:
+            cells = [textwrap.wrap(str(c), w) or [""] for c, w in zip(row, widths, strict=True)]
+            for k in range(max(len(c) for c in cells)):
+                parts = [
+                    (c[k] if k < len(c) else "").ljust(w)
+                    for c, w in zip(cells, widths, strict=True)
+                ]
+                self.line("  ".join(parts).rstrip(), size, family="monospace", **kw)
+
+        emit(table.header, weight="bold", gap=0.05)
         for row in table.rows:
-            self.line(fmt(row), size, family="monospace")
+            emit(row)
         if table.caption:
             for ln in textwrap.wrap(table.caption, 120):
                 self.line(ln, 7.5)
@@ -929,8 +1058,10 @@ def render_pdf(report: Report, path: str | Path) -> Path:
                     w.table(b)
                 else:
                     figures.append(b)
-                    w.line(f"Figure {n}.{len(figures)}: {b.caption}", 8.5)
-            w.flush()
+                    for ln in textwrap.wrap(f"Figure {n}.{len(figures)}: {b.caption}", 115):
+                        w.line(ln, 8.5)
+            if figures:  # figures take pages of their own; text-only sections share pages
+                w.flush()
             for k, p in enumerate(figures, 1):
                 fig = p.figure
                 fig.suptitle(f"{n}. {sec.title} - figure {n}.{k}", fontsize=9, x=0.02, ha="left")
