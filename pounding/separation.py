@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import dataclasses
 import datetime
-import inspect
 import json
 import math
 from collections.abc import Callable, Mapping, Sequence
@@ -59,7 +58,7 @@ from pounding._version import __version__
 from pounding.case import Case, CaseError, load_case
 from pounding.ground_motion import GroundMotion
 from pounding.records import resolve
-from pounding.simulate import AnalysisOptions, default_time_step, run
+from pounding.simulate import AnalysisOptions, run, step_plan
 from pounding.spectra import EC8_GROUND_TYPES, design_spectrum, spectral_peaks
 from pounding.structure import ShearBuilding
 from pounding.system import LEFT_SIGN, LEVEL_TOLERANCE, RIGHT_SIGN, WALL, PoundingSystem, assemble
@@ -452,24 +451,10 @@ def facing_pairs(system: PoundingSystem) -> tuple[FacingPair, ...]:
     return tuple(out)
 
 
-_STEP_OPTIONS = tuple(
-    name
-    for name, par in inspect.signature(default_time_step).parameters.items()
-    if par.kind is inspect.Parameter.KEYWORD_ONLY
-)
-
-
 def _analysis_step(system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions):
-    """(integration step [s], analysed duration [s]) that :func:`pounding.simulate.run` uses."""
-    ground = ground.starting_from_rest()
-    duration = ground.duration if opts.duration is None else float(opts.duration)
-    # the step options default_time_step takes, by name, so this follows its signature
-    step_options = {k: getattr(opts, k) for k in _STEP_OPTIONS if hasattr(opts, k)}
-    dt = opts.dt or default_time_step(system, ground, **step_options)
-    output_dt = max(opts.output_dt or 0.005, dt)
-    every = max(1, math.ceil(output_dt / dt - 1e-9))
-    n_out = max(1, math.ceil(duration / output_dt - 1e-9))
-    return output_dt / every, n_out * output_dt
+    """(integration step [s], analysed duration [s]) of a Newmark-family run of the case."""
+    dt, output_dt, _, n_out = step_plan(system, ground.starting_from_rest(), opts, ivp_grid=False)
+    return dt, n_out * output_dt
 
 
 def _hermite_max(d: np.ndarray, v: np.ndarray, h: float) -> float:

@@ -196,11 +196,14 @@ def simulate(
     return build_dataset(system, ground.starting_from_rest(), raw, provenance=provenance)
 
 
-def run(
-    system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions
-) -> tuple[RawResult, dict]:
-    """Integrate with validated options; returns the raw result and the provenance of the step choice."""
-    ground = ground.starting_from_rest()
+def step_plan(
+    system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions, *, ivp_grid: bool = True
+) -> tuple[float, float, int, int]:
+    """(integration step [s], output step [s], steps per output, output rows after t = 0) of
+    :func:`run`: the base step (``opts.dt`` or :func:`default_time_step`) shortened so that a whole
+    number of steps fills each output interval, over the duration rounded up to whole outputs.
+    ``ground`` starts from rest. With ``ivp_grid=False`` the ivp method's output grid follows the
+    Newmark-family rule too (the step a Newmark run of the case would take)."""
     duration = ground.duration if opts.duration is None else float(opts.duration)
     dt = opts.dt or default_time_step(
         system,
@@ -210,12 +213,21 @@ def run(
         adaptive=opts.adaptive,
     )
     # the ivp path steps on its own: its output grid is the one asked for, not tied to a Newmark step
-    output_dt = (
-        (opts.output_dt or 0.005) if opts.method == "ivp" else max(opts.output_dt or 0.005, dt)
-    )
+    if opts.method == "ivp" and ivp_grid:
+        output_dt = opts.output_dt or 0.005
+    else:
+        output_dt = max(opts.output_dt or 0.005, dt)
     every = max(1, math.ceil(output_dt / dt - 1e-9))
-    dt = output_dt / every
     n_out = max(1, math.ceil(duration / output_dt - 1e-9))
+    return output_dt / every, output_dt, every, n_out
+
+
+def run(
+    system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions
+) -> tuple[RawResult, dict]:
+    """Integrate with validated options; returns the raw result and the provenance of the step choice."""
+    ground = ground.starting_from_rest()
+    dt, output_dt, every, n_out = step_plan(system, ground, opts)
     info = {
         "dt": dt,
         "output_dt": output_dt,

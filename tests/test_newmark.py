@@ -343,3 +343,29 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
     residual = M @ a_new + w * (C @ v_new + K @ u1 + B @ f_new) - alpha * (C @ v + K @ u + B @ f0)
     residual += Mi * g_eff
     assert np.abs(residual).max() <= 1e-8 * np.abs(B @ f_new).max()
+
+
+@pytest.mark.parametrize(
+    ("options", "expected"),
+    [
+        # 1 ms asked, 2 ms output: 1 ms steps (2 per output) over 0.5 s = 250 outputs
+        ({"dt": 1e-3, "output_dt": 2e-3, "duration": 0.5}, (1e-3, 2e-3, 2, 250)),
+        # 3 ms does not divide 10 ms: 4 steps of 2.5 ms; 0.501 s rounds up to 51 outputs
+        ({"dt": 3e-3, "output_dt": 1e-2, "duration": 0.501}, (2.5e-3, 1e-2, 4, 51)),
+        # output finer than the step: the output follows the step
+        ({"dt": 4e-3, "output_dt": 1e-3, "duration": 0.2}, (4e-3, 4e-3, 1, 50)),
+    ],
+)
+def test_step_plan_fits_whole_steps_into_each_output_and_run_follows_it(options, expected):
+    from pounding.simulate import AnalysisOptions, run, step_plan
+
+    system = assemble([_sdof(0.5)])
+    gm = sine_pulse(amplitude=2.0, period=0.4, duration=0.6, dt=1e-3)
+    opts = AnalysisOptions(adaptive=False, **options)
+    dt, output_dt, every, n_out = step_plan(system, gm.starting_from_rest(), opts)
+    assert (every, n_out) == expected[2:]
+    assert dt == pytest.approx(expected[0], rel=1e-12)
+    assert output_dt == pytest.approx(expected[1], rel=1e-12)
+    raw, info = run(system, gm, opts)
+    assert info["dt"] == dt and info["duration"] == pytest.approx(n_out * output_dt)
+    assert raw.displacement.shape[0] == n_out + 1
