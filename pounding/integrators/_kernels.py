@@ -365,16 +365,17 @@ def _band_matvec_add(Ab, bw, x, scale, out):
 
 
 @jit
-def _band_quadratic(Ab, bw, x):
-    """xᵀ A x for A in band rows, one diagonal at a time (each a plain loop the compiler vectorises;
-    row-wise loops with clipped bounds cost several times more at these sizes)."""
+def _band_quadratic(AbT, bw, x):
+    """xᵀ A x for A given by its diagonals, ``AbT`` = band rows transposed ((2 bw + 1) × n,
+    contiguous), one diagonal at a time: each a unit-stride loop the compiler vectorises (row-wise
+    loops with clipped bounds cost several times more at these sizes)."""
     n = x.size
     total = 0.0
     for k in range(2 * bw + 1):
         off = k - bw
         acc = 0.0
         for i in range(max(0, -off), min(n, n - off)):
-            acc += Ab[i, k] * x[i] * x[i + off]
+            acc += AbT[k, i] * x[i] * x[i + off]
         total += acc
     return total
 
@@ -1105,7 +1106,10 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     Mb = to_band(M, bw)
     Cb = to_band(C, bw)
     Kb = to_band(K, bw)
+    # diagonal-major copies for the quadratic forms of the energy ledger
+    MbT = np.ascontiguousarray(Mb.T)
     CbT = np.ascontiguousarray(Cb.T)
+    KbT = np.ascontiguousarray(Kb.T)
     L_h, D_h = band_ldl(_tangent_band(h, Mb, Cb, Kb, gamma, beta, alpha), bw)
     lin = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
     dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
@@ -1156,7 +1160,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     t = 0.0
     # ground acceleration at the step start, carried from the last accepted step end
     g_start = ground_at(ag, ag_dt, 0.0)
-    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, Mb, Kb, bw, el_law, el_params,
+    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, MbT, KbT, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st)  # fmt: skip
     for k in range(n_steps):
         t = k * h
@@ -1448,13 +1452,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             p_in1 = 0.0
             for i in range(n):
                 p_in1 -= v1[i] * Mi[i] * g1
-            p_d1 = 0.0
-            for kb in range(2 * bw + 1):
-                off = kb - bw
-                acc = 0.0
-                for i in range(max(0, -off), min(n, n - off)):
-                    acc += CbT[kb, i] * v1[i] * v1[i + off]
-                p_d1 += acc
+            p_d1 = _band_quadratic(CbT, bw, v1)
             p_c1 = 0.0
             for c in range(n_el):
                 p_c1 += f1[c] * dd1[c]
@@ -1584,13 +1582,13 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             g_start = g1
         if (k + 1) % out_every == 0:
             _store((k + 1) // out_every, t_next, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr,
-                   Mb, Kb, bw, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
+                   MbT, KbT, bw, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
                    out_e, out_ff, out_st)  # fmt: skip
     return t
 
 
 @jit
-def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, Mb, Kb, bw, el_law, el_params,
+def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, MbT, KbT, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st):  # fmt: skip
     if row >= out_u.shape[0]:
         return
@@ -1607,8 +1605,8 @@ def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, Mb, Kb, bw
     for c in range(d.size):
         stored += contact_stored_energy(el_law[c], d[c], f[c], el_params[c])
     out_e[row, 0] = e_in
-    out_e[row, 1] = 0.5 * _band_quadratic(Mb, bw, v)
-    out_e[row, 2] = 0.5 * _band_quadratic(Kb, bw, u)
+    out_e[row, 1] = 0.5 * _band_quadratic(MbT, bw, v)
+    out_e[row, 2] = 0.5 * _band_quadratic(KbT, bw, u)
     out_e[row, 3] = e_damp
     out_e[row, 4] = w_c - stored
     out_e[row, 5] = stored
