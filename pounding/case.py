@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from pounding import records
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import ANALYTIC_MOTIONS, GroundMotion, analytic
 from pounding.simulate import AnalysisOptions
 from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
@@ -38,7 +39,7 @@ _RECORD_KEYS = ("file", "record", "units", "dt", "format", "scale")
 _TOP_KEYS = ("title", "building", "contact", "ground_motion", "analysis", "study", "separation")
 
 
-class CaseError(ValueError):
+class CaseError(PoundingInputError):
     """A case file is malformed; the message names the file and the key."""
 
 

@@ -1,7 +1,10 @@
 """Command-line interface: the only module that parses argv, prints or exits.
 
-Every error a user can cause (bad case file, unknown law, malformed record) is turned into one line on
-stderr and exit code 2, never a traceback.
+Every error a user can cause (bad case file, unknown law, malformed record, an analysis that does not
+converge) derives from :class:`pounding.errors.PoundingError` and is turned into one line on stderr and
+exit code 2, never a traceback. Any other exception is a bug: its traceback is shown, with one line
+asking to report it. Help texts are plain text (no rich markup), so units in brackets such as ``[s]``
+and table names such as ``[analysis]`` are shown as written.
 """
 
 from __future__ import annotations
@@ -13,37 +16,81 @@ from typing import Any
 
 import typer
 
+# Plain help text: rich markup would take "[s]", "[m]" or "[analysis]" for tags and drop them.
+_TYPER = {
+    "rich_markup_mode": None,
+    "context_settings": {"help_option_names": ["-h", "--help"]},
+}
+
 app = typer.Typer(
     help="Seismic pounding analysis of adjacent buildings.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    **_TYPER,
 )
 
 
 class UserError(Exception):
-    """An error caused by the user's input; reported as one line, exit code 2."""
+    """An error caused by the user's input at the command line; reported as one line, exit code 2."""
 
 
 def _fail(message: str) -> None:
-    typer.echo(f"error: {message}", err=True)
+    typer.echo(f"error: {' '.join(message.split())}", err=True)
     raise typer.Exit(code=2)
 
 
+def _user_error_types() -> tuple[type[BaseException], ...]:
+    from pounding.errors import PoundingError
+
+    # ValueError until every library module raises PoundingInputError for bad input
+    return (PoundingError, UserError, ValueError)
+
+
 def user_errors(func: Callable[..., Any]) -> Callable[..., Any]:
-    """Turn input errors raised by the library into one line on stderr and exit code 2."""
+    """Turn the errors a user can cause into one line on stderr and exit code 2; a broken pipe
+    (``pounding ... | head``) ends quietly; anything else is a bug and keeps its traceback."""
 
     @wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         try:
             return func(*args, **kwargs)
-        except (ValueError, KeyError, FileNotFoundError, IsADirectoryError, UserError) as exc:
-            msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-            _fail(str(msg))
+        except BrokenPipeError:
+            raise
+        except _user_error_types() as exc:
+            _fail(str(exc))
         except OSError as exc:
-            _fail(f"{exc.filename or ''}: {exc.strerror or exc}".strip(": "))
+            where = f"{exc.filename}: " if exc.filename else ""
+            _fail(f"{where}{exc.strerror or exc}")
+        except (typer.Exit, typer.Abort, KeyboardInterrupt):
+            raise
+        except Exception:
+            _report_bug()
+            raise typer.Exit(code=1) from None
 
     return wrapper
+
+
+def _version(value: bool) -> None:
+    if value:
+        from pounding._version import __version__
+
+        typer.echo(f"pounding {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    version: bool = typer.Option(
+        False,
+        "--version",
+        callback=_version,
+        is_eager=True,
+        help="Print the version and exit.",
+    ),
+) -> None:
+    """Seismic pounding analysis of adjacent buildings: shear buildings in a row, gap contact
+    elements with a choice of contact laws, ground motions, studies and reports. SI units."""
 
 
 # --- analysis verbs ---
@@ -128,6 +175,7 @@ laws_app = typer.Typer(
     help="Contact laws: list them, or measure one law's single-impact response.",
     invoke_without_command=True,
     no_args_is_help=False,
+    **_TYPER,
 )
 app.add_typer(laws_app, name="laws")
 
@@ -480,6 +528,7 @@ def report(
 records_app = typer.Typer(
     help="Ground-motion records: list suites, show a record, response spectra, convert formats.",
     no_args_is_help=True,
+    **_TYPER,
 )
 app.add_typer(records_app, name="records")
 
@@ -612,10 +661,45 @@ def records_convert(
 # --- end records verbs ---
 
 
+def _report_bug() -> None:
+    import traceback
+
+    from pounding._version import __version__
+
+    traceback.print_exc()
+    typer.echo(
+        f"error: this is a bug in pounding {__version__}, not a problem with your input; please "
+        "report it with the traceback above and the case file",
+        err=True,
+    )
+
+
+def _exit_now(code: int) -> None:
+    # Skip the interpreter's exit handlers: concurrent.futures joins its manager threads there, which
+    # can wait for workers that were just terminated.
+    import os
+
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
+
+
 def main() -> None:
     """Console-script entry point."""
+    import os
+
     try:
         app()
     except KeyboardInterrupt:
         typer.echo("interrupted", err=True)
-        sys.exit(130)
+        _exit_now(130)
+    except SystemExit as exc:
+        if (
+            exc.code == 130
+        ):  # an interrupted study: finished runs are stored, nothing left to wait for
+            _exit_now(130)
+        raise
+    except BrokenPipeError:
+        # the reader (e.g. `head`) went away: stop quietly, without a second error at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(0)

@@ -48,6 +48,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from pounding.errors import PoundingInputError
+
 __all__ = [
     "FRICTION_LAWS",
     "LAWS_BY_ID",
@@ -307,25 +309,29 @@ def _pack(
     names = [s.name for s in specs]
     unknown = sorted(set(params) - set(names))
     if unknown:
-        raise ValueError(f"{what}: unknown parameter {unknown[0]!r}; allowed: {', '.join(names)}")
+        raise PoundingInputError(
+            f"{what}: unknown parameter {unknown[0]!r}; allowed: {', '.join(names)}"
+        )
     values: dict[str, float] = {}
     for s in specs:
         value = params.get(s.name, s.default)
         if value is None:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{what}: missing parameter {s.name!r} [{s.unit}] ({s.description}; {s.allowed}, "
                 f"typical {s.typical}); parameters: {', '.join(names)}"
             )
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            raise ValueError(f"{what}: {s.name} = {value!r}; allowed: a number [{s.unit}]")
+            raise PoundingInputError(f"{what}: {s.name} = {value!r}; allowed: a number [{s.unit}]")
         value = float(value)
         above = value > s.minimum if s.strict else value >= s.minimum
         if not (math.isfinite(value) and above):
-            raise ValueError(f"{what}: {s.name} = {value!r} [{s.unit}]; allowed: {s.allowed}")
+            raise PoundingInputError(
+                f"{what}: {s.name} = {value!r} [{s.unit}]; allowed: {s.allowed}"
+            )
         values[s.name] = value
     for small, large in ordered:
         if values[small] > values[large]:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{what}: {small} = {values[small]:g} > {large} = {values[large]:g}; "
                 f"allowed: {small} <= {large}"
             )
@@ -341,7 +347,7 @@ def get_friction_law(name: str | FrictionLaw) -> FrictionLaw:
         return FRICTION_LAWS[key]
     except KeyError:
         allowed = ", ".join(FRICTION_LAWS)
-        raise ValueError(f"unknown friction law {name!r}; allowed: {allowed}") from None
+        raise PoundingInputError(f"unknown friction law {name!r}; allowed: {allowed}") from None
 
 
 def friction_parameters(name: str | FrictionLaw, **params: float) -> np.ndarray:
@@ -376,7 +382,9 @@ def bouc_wen_parameters(**params: float) -> np.ndarray:
     """
     p = _pack("Bouc-Wen", BOUC_WEN_PARAMETERS, (), params)
     if p[2] + p[3] <= 0.0:
-        raise ValueError(f"Bouc-Wen: beta + gamma = {p[2] + p[3]:g}; allowed: beta + gamma > 0")
+        raise PoundingInputError(
+            f"Bouc-Wen: beta + gamma = {p[2] + p[3]:g}; allowed: beta + gamma > 0"
+        )
     return p
 
 
@@ -389,7 +397,7 @@ def _normal(normal: float | np.ndarray) -> np.ndarray:
     n = np.asarray(normal, dtype=float)
     bad = ~(np.isfinite(n) & (n >= 0.0))
     if np.any(bad):
-        raise ValueError(f"normal = {float(n[bad].flat[0])!r} [N]; allowed: finite, >= 0")
+        raise PoundingInputError(f"normal = {float(n[bad].flat[0])!r} [N]; allowed: finite, >= 0")
     return n
 
 
@@ -450,7 +458,7 @@ def coulomb_stick_force_limit(mu_s, normal):
     """
     mu = np.asarray(mu_s, dtype=float)
     if np.any(~(np.isfinite(mu) & (mu >= 0.0))):
-        raise ValueError(f"mu_s = {mu_s!r}; allowed: finite, >= 0")
+        raise PoundingInputError(f"mu_s = {mu_s!r}; allowed: finite, >= 0")
     return (mu * _normal(normal))[()]
 
 

@@ -44,7 +44,8 @@ from urllib.parse import parse_qsl
 
 import numpy as np
 
-from pounding import __version__
+from pounding._version import __version__
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion, remove_mean
 from pounding.units import G, acceleration_factor, length_factor, velocity_factor
 
@@ -53,7 +54,7 @@ from pounding.units import G, acceleration_factor, length_factor, velocity_facto
 # ---------------------------------------------------------------------------------------------
 
 
-class RecordFormatError(ValueError):
+class RecordFormatError(PoundingInputError):
     """A record file that does not follow its format.
 
     Attributes ``path``, ``line`` (1-based, or None for the whole file) and ``expected``.
@@ -72,7 +73,7 @@ class RecordFormatError(ValueError):
         super().__init__(msg)
 
 
-class SuiteUnavailableError(ValueError):
+class SuiteUnavailableError(PoundingInputError):
     """A record suite whose optional dependency is not installed."""
 
 

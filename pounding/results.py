@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.integrators.base import ENERGY_TERMS, RawResult
 from pounding.structure import reference_floors
@@ -303,8 +304,19 @@ def open_result(path: str | Path) -> xr.Dataset:
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no result file at {path}")
+    with path.open("rb") as fh:
+        head = fh.read(8)
+    if head != _HDF5_SIGNATURE:
+        raise PoundingInputError(
+            f"{path} is not a pounding result (NetCDF-4 file); allowed: the .nc written by "
+            "`pounding run -o`, `pounding study -o` or `pounding separation -o`"
+        )
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         return ds.load()
+
+
+# NetCDF-4 files are HDF5 files: their first 8 bytes (the HDF5 format signature)
+_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 
 
 @xr.register_dataset_accessor("pounding")

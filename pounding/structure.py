@@ -35,6 +35,7 @@ import numpy as np
 import scipy.linalg
 
 from pounding import friction as _friction
+from pounding.errors import PoundingInputError
 from pounding.units import G
 
 DEFAULT_STORY_HEIGHT = 3.0
@@ -45,9 +46,11 @@ def _check_ratio(value: float, field: str, where: str) -> float:
     try:
         ratio = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{where}: {field} = {value!r}; must be a number in [0, 1)") from None
+        raise PoundingInputError(
+            f"{where}: {field} = {value!r}; must be a number in [0, 1)"
+        ) from None
     if not (0.0 <= ratio < 1.0):
-        raise ValueError(f"{where}: {field} = {ratio:g}; damping ratios must be in [0, 1)")
+        raise PoundingInputError(f"{where}: {field} = {ratio:g}; damping ratios must be in [0, 1)")
     return ratio
 
 
@@ -76,7 +79,7 @@ class RayleighDamping:
         except TypeError:
             modes = ()
         if len(modes) != 2 or min(modes) < 1 or modes[0] == modes[1]:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: modes = {self.modes!r}; modes must be two distinct positive "
                 "integers (1-based mode numbers), e.g. (1, 2)"
             )
@@ -99,7 +102,9 @@ class ModalDamping:
     def __post_init__(self) -> None:
         ratios = np.atleast_1d(np.asarray(self.ratios, dtype=object)).ravel()
         if ratios.size == 0:
-            raise ValueError("ModalDamping: ratios is empty; give one ratio or one per mode")
+            raise PoundingInputError(
+                "ModalDamping: ratios is empty; give one ratio or one per mode"
+            )
         checked = tuple(
             _check_ratio(r, f"ratios[{i}]", "ModalDamping") for i, r in enumerate(ratios)
         )
@@ -217,27 +222,31 @@ class IsolationBase:
     ) -> None:
         where = "base"
         if type not in BEARING_TYPES:
-            raise ValueError(f"{where}: type = {type!r}; allowed: {', '.join(BEARING_TYPES)}")
+            raise PoundingInputError(
+                f"{where}: type = {type!r}; allowed: {', '.join(BEARING_TYPES)}"
+            )
         m = _number(mass, f"{where}: mass", "kg")
         if not m > 0.0:
-            raise ValueError(f"{where}: mass = {mass!r} kg; allowed: positive and finite")
+            raise PoundingInputError(f"{where}: mass = {mass!r} kg; allowed: positive and finite")
         if type == "friction_pendulum":
             if radius is None:
-                raise ValueError(
+                raise PoundingInputError(
                     f"{where}: radius [m] is required for a friction_pendulum (typical 1-4 m)"
                 )
             radius = _number(radius, f"{where}: radius", "m")
             if not radius > 0.0:
-                raise ValueError(f"{where}: radius = {radius!r} m; allowed: positive and finite")
+                raise PoundingInputError(
+                    f"{where}: radius = {radius!r} m; allowed: positive and finite"
+                )
         elif radius is not None:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: radius = {radius!r} applies to type 'friction_pendulum' only; a "
                 f"{type!r} bearing has no restoring force"
             )
         try:
             law = _friction.get_friction_law(friction)
         except ValueError as exc:
-            raise ValueError(f"{where}: friction: {exc}") from None
+            raise PoundingInputError(f"{where}: friction: {exc}") from None
         bw_names = [p.name for p in _friction.BOUC_WEN_PARAMETERS]
         bw = {k: v for k, v in parameters.items() if k in bw_names}
         own = {k: v for k, v in parameters.items() if k not in bw_names}
@@ -246,7 +255,7 @@ class IsolationBase:
             allowed += bw_names
         unknown = sorted(set(parameters) - set(allowed))
         if unknown:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: unknown key {unknown[0]!r} for friction law {law.name!r}; allowed: "
                 f"{', '.join(allowed)}"
             )
@@ -255,7 +264,7 @@ class IsolationBase:
             if bw:
                 _friction.bouc_wen_parameters(**bw)
         except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+            raise PoundingInputError(f"{where}: {exc}") from None
         object.__setattr__(self, "type", type)
         object.__setattr__(self, "mass", m)
         object.__setattr__(self, "friction", law.name)
@@ -307,13 +316,13 @@ class IsolationBase:
 
 def _number(value: object, field: str, unit: str) -> float:
     if isinstance(value, bool):
-        raise ValueError(f"{field} = {value!r}; allowed: a number [{unit}]")
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a number [{unit}]")
     try:
         x = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
-        raise ValueError(f"{field} = {value!r}; allowed: a number [{unit}]") from None
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a number [{unit}]") from None
     if not math.isfinite(x):
-        raise ValueError(f"{field} = {value!r}; allowed: a finite number [{unit}]")
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a finite number [{unit}]")
     return x
 
 
@@ -363,7 +372,9 @@ class ShearBuilding:
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
-            raise ValueError(f"building name = {self.name!r}; name must be a non-empty string")
+            raise PoundingInputError(
+                f"building name = {self.name!r}; name must be a non-empty string"
+            )
         where = f"building {self.name!r}"
         masses = self._positive_array("masses", self.masses)
         n = masses.size
@@ -371,39 +382,41 @@ class ShearBuilding:
         for field, values in (("stiffnesses", self.stiffnesses), ("heights", heights)):
             array = self._positive_array(field, values)
             if array.size != n:
-                raise ValueError(
+                raise PoundingInputError(
                     f"{where}: {field} has {array.size} entries but masses has {n}; "
                     f"{field} needs one entry per story"
                 )
             object.__setattr__(self, field, _readonly(array))
         object.__setattr__(self, "masses", _readonly(masses))
         if not isinstance(self.damping, RayleighDamping | ModalDamping):
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: damping = {self.damping!r}; damping must be a RayleighDamping or "
                 "ModalDamping"
             )
         if isinstance(self.damping, ModalDamping) and len(self.damping.ratios) not in (1, n):
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: damping.ratios has {len(self.damping.ratios)} values; give 1 (all "
                 f"modes) or {n} (one per mode)"
             )
         if self.base is not None and not isinstance(self.base, IsolationBase):
-            raise ValueError(f"{where}: base = {self.base!r}; allowed: an IsolationBase or None")
+            raise PoundingInputError(
+                f"{where}: base = {self.base!r}; allowed: an IsolationBase or None"
+            )
 
     def _positive_array(self, field: str, values: object) -> np.ndarray:
         where = f"building {self.name!r}"
         try:
             array = np.array(values, dtype=float, copy=True)
         except (TypeError, ValueError):
-            raise ValueError(f"{where}: {field} = {values!r}; must be numbers") from None
+            raise PoundingInputError(f"{where}: {field} = {values!r}; must be numbers") from None
         if array.ndim != 1 or array.size == 0:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: {field} has shape {array.shape}; must be a non-empty 1-D sequence"
             )
         bad = np.flatnonzero(~(np.isfinite(array) & (array > 0.0)))
         if bad.size:
             i = int(bad[0])
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: {field}[{i}] = {array[i]:g} {_FIELD_UNITS[field]}; "
                 f"{field} must be positive and finite"
             )
@@ -462,9 +475,11 @@ class ShearBuilding:
         """
         where = f"building {self.name!r}"
         if not isinstance(self.damping, RayleighDamping):
-            raise ValueError(f"{where}: damping is {type(self.damping).__name__}, not Rayleigh")
+            raise PoundingInputError(
+                f"{where}: damping is {type(self.damping).__name__}, not Rayleigh"
+            )
         if not self._uses_rayleigh():
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: damping.modes = {self.damping.modes} but the building has only "
                 f"{self.n_floors} mode(s); it uses modal damping with ratio {self.damping.ratio:g} "
                 "on every mode instead, so there are no Rayleigh coefficients"
@@ -556,13 +571,13 @@ class ShearBuilding:
         """
         where = f"building {name!r}"
         if isinstance(n_floors, bool) or not isinstance(n_floors, int | np.integer) or n_floors < 1:
-            raise ValueError(f"{where}: n_floors = {n_floors!r}; must be an integer >= 1")
+            raise PoundingInputError(f"{where}: n_floors = {n_floors!r}; must be an integer >= 1")
         period = float(period)
         if not (math.isfinite(period) and period > 0.0):
-            raise ValueError(f"{where}: period = {period:g} s; must be positive and finite")
+            raise PoundingInputError(f"{where}: period = {period:g} s; must be positive and finite")
         mass = float(mass)
         if not (math.isfinite(mass) and mass > 0.0):
-            raise ValueError(f"{where}: mass = {mass:g} kg; must be positive and finite")
+            raise PoundingInputError(f"{where}: mass = {mass:g} kg; must be positive and finite")
         omega1 = 2.0 * math.pi / period
         s = math.sin(math.pi / (2.0 * (2 * n_floors + 1)))
         k = mass * (omega1 / (2.0 * s)) ** 2

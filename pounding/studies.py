@@ -845,11 +845,18 @@ def _mp_context() -> multiprocessing.context.BaseContext:
     return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
-def _stop_workers(pool: cf.ProcessPoolExecutor) -> None:
-    for proc in list(getattr(pool, "_processes", {}).values()):
+def _stop_workers(pool: cf.ProcessPoolExecutor, grace: float = 2.0) -> None:
+    procs = list(getattr(pool, "_processes", {}).values())
+    for proc in procs:
         if proc.is_alive():
             proc.terminate()
     pool.shutdown(wait=False, cancel_futures=True)
+    # a worker stuck in compiled code may not honour SIGTERM at once: never wait for it long
+    deadline = time.monotonic() + grace
+    for proc in procs:
+        proc.join(max(0.0, deadline - time.monotonic()))
+        if proc.is_alive():
+            proc.kill()
 
 
 def _run_processes(tasks: list[dict], jobs: int, on_done: Callable[[dict], None]) -> None:

@@ -42,6 +42,7 @@ import numpy as np
 
 from pounding.contact.calibrate import CALIBRATIONS, contact_parameters
 from pounding.contact.laws import N_KERNEL_PARAMS, ContactLaw, get_contact_law
+from pounding.errors import PoundingInputError
 from pounding.friction import BOUC_WEN_PARAMETERS, FRICTION_LAWS
 from pounding.structure import ShearBuilding
 
@@ -100,20 +101,22 @@ class Contact:
     def __post_init__(self) -> None:
         where = f"contact {self.left!r}-{self.right!r}"
         if self.left == WALL and self.right == WALL:
-            raise ValueError(f"{where}: at least one side must be a building")
+            raise PoundingInputError(f"{where}: at least one side must be a building")
         gap = float(self.gap)
         if not (math.isfinite(gap) and gap >= 0.0):
-            raise ValueError(f"{where}: gap = {self.gap}; allowed: a finite number >= 0 [m]")
+            raise PoundingInputError(
+                f"{where}: gap = {self.gap}; allowed: a finite number >= 0 [m]"
+            )
         object.__setattr__(self, "gap", gap)
         try:
             law = get_contact_law(self.law)
         except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+            raise PoundingInputError(f"{where}: {exc}") from None
         object.__setattr__(self, "law", law.name)
         if self.k is None:
-            raise ValueError(f"{where}: k (contact stiffness [N/m^n]) is required")
+            raise PoundingInputError(f"{where}: k (contact stiffness [N/m^n]) is required")
         if self.calibration not in CALIBRATIONS:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: calibration = {self.calibration!r}; allowed: {', '.join(CALIBRATIONS)}"
             )
 
@@ -211,7 +214,7 @@ class PoundingSystem:
         ``dof_offset[building]`` is the dof of floor 1; an isolated building's base dof precedes it.
         """
         if floor == BASE_FLOOR and self.base_dof[building] < 0:
-            raise ValueError(
+            raise PoundingInputError(
                 f"building {self.buildings[building].name!r} has no base slab (floor 0); it is "
                 "fixed at the base"
             )
@@ -270,7 +273,7 @@ def _check_floor(where: str, f: Any, b: ShearBuilding) -> int:
             if b.isolated
             else " (0, a base slab, only for an isolated building)"
         )
-        raise ValueError(
+        raise PoundingInputError(
             f"{where}: floor {f!r} of building {b.name!r}; allowed: {lowest}..{b.n_floors}{base}"
         )
     return i
@@ -285,7 +288,7 @@ def _floor_pairs(
     if left is not None and right is not None:
         if isinstance(floors, str):
             if floors != "common":
-                raise ValueError(
+                raise PoundingInputError(
                     f"{where}: floors = {floors!r}; allowed: 'common' or a list of "
                     "[left_floor, right_floor] pairs"
                 )
@@ -296,7 +299,7 @@ def _floor_pairs(
                 if abs(zi - zj) < LEVEL_TOLERANCE
             ]
             if not pairs:
-                raise ValueError(
+                raise PoundingInputError(
                     f"{where}: the buildings have no floor at a common elevation; give explicit "
                     "floors = [[left_floor, right_floor], ...]"
                 )
@@ -304,7 +307,7 @@ def _floor_pairs(
         pairs = []
         for item in floors:
             if not (isinstance(item, Sequence) and len(item) == 2):
-                raise ValueError(
+                raise PoundingInputError(
                     f"{where}: floors entry {item!r}; allowed: [left_floor, right_floor] pairs"
                 )
             pairs.append((_check_floor(where, item[0], left), _check_floor(where, item[1], right)))
@@ -312,7 +315,7 @@ def _floor_pairs(
     building = left if left is not None else right
     if isinstance(floors, str):
         if floors not in ("all", "common"):
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: floors = {floors!r}; allowed with a wall: 'all' or a list of floors"
             )
         chosen = list(range(1, building.n_floors + 1))
@@ -336,13 +339,15 @@ def assemble(
     """
     buildings = tuple(buildings)
     if not buildings:
-        raise ValueError("a system needs at least one building")
+        raise PoundingInputError("a system needs at least one building")
     names = [b.name for b in buildings]
     dupes = {n for n in names if names.count(n) > 1}
     if dupes:
-        raise ValueError(f"building names must be unique; repeated: {', '.join(sorted(dupes))}")
+        raise PoundingInputError(
+            f"building names must be unique; repeated: {', '.join(sorted(dupes))}"
+        )
     if WALL in names:
-        raise ValueError(f"{WALL!r} is reserved for rigid walls and cannot name a building")
+        raise PoundingInputError(f"{WALL!r} is reserved for rigid walls and cannot name a building")
     index = {n: i for i, n in enumerate(names)}
     # each building: [base slab if isolated] + floors; offsets = dof of floor 1
     sizes = [b.n_floors + (1 if b.isolated else 0) for b in buildings]
@@ -357,13 +362,13 @@ def assemble(
         where = f"contact {contact.left!r}-{contact.right!r}"
         for side in (contact.left, contact.right):
             if side != WALL and side not in index:
-                raise ValueError(
+                raise PoundingInputError(
                     f"{where}: unknown building {side!r}; allowed: {', '.join(names)} or {WALL!r}"
                 )
         li = index.get(contact.left)
         ri = index.get(contact.right)
         if li is not None and ri is not None and ri != li + 1:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{where}: contacts join neighbours in the row (buildings are listed left to right: "
                 f"{', '.join(names)}); {contact.left!r} is not immediately left of {contact.right!r}"
             )
@@ -386,7 +391,7 @@ def assemble(
                     calibration=contact.calibration,
                 )
             except ValueError as exc:
-                raise ValueError(f"{where}: {exc}") from None
+                raise PoundingInputError(f"{where}: {exc}") from None
             rows.append(
                 dict(
                     dof=(

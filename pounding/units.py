@@ -6,6 +6,8 @@ Everything inside :mod:`pounding` is SI (m, s, kg, N). Conversion happens only a
 
 from __future__ import annotations
 
+from pounding.errors import PoundingInputError
+
 G = 9.80665
 """Standard gravity [m/s²] (CGPM 1901)."""
 
@@ -40,7 +42,7 @@ def _factor(table: dict[str, float], unit: str, quantity: str) -> float:
         return table[key]
     except KeyError:
         allowed = ", ".join(sorted(table))
-        raise ValueError(f"unknown {quantity} unit {unit!r}; allowed: {allowed}") from None
+        raise PoundingInputError(f"unknown {quantity} unit {unit!r}; allowed: {allowed}") from None
 
 
 def acceleration_factor(unit: str) -> float:

@@ -62,6 +62,8 @@ from collections.abc import Callable
 import numpy as np
 from scipy.optimize import brentq
 
+from pounding.errors import PoundingInputError
+
 #: Impact velocities below this [m/s] are raised to it in the v0-scaled damping terms, so a grazing
 #: contact (v0 -> 0) does not give the Hunt-Crossley family an infinite damping coefficient.
 V0_FLOOR = 1.0e-4
@@ -225,7 +227,7 @@ def stored_energy(is_bilinear, d, f, p):
 def _check_e(e: float) -> float:
     e = float(e)
     if not (0.0 < e <= 1.0):
-        raise ValueError(f"coefficient of restitution e = {e}; allowed: 0 < e <= 1")
+        raise PoundingInputError(f"coefficient of restitution e = {e}; allowed: 0 < e <= 1")
     return e
 
 
@@ -335,7 +337,7 @@ def bilinear_stiffnesses(
     k1 = keff + de / (a * delta_m**2)
     k2 = keff - de / ((1.0 - a) * delta_m**2)
     if k2 <= 0.0:
-        raise ValueError(
+        raise PoundingInputError(
             f"bilinear law: e = {e} and a = {a} give a non-positive post-yield stiffness K2 = {k2:.4g} N/m;"
             " raise e or lower a"
         )
@@ -455,7 +457,7 @@ def get_contact_law(name: str | ContactLaw) -> ContactLaw:
         return CONTACT_LAWS[key]
     except KeyError:
         allowed = ", ".join(sorted(CONTACT_LAWS))
-        raise ValueError(f"unknown contact law {name!r}; allowed: {allowed}") from None
+        raise PoundingInputError(f"unknown contact law {name!r}; allowed: {allowed}") from None
 
 
 def contact_force(

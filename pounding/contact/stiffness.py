@@ -26,6 +26,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
+from pounding.errors import PoundingInputError
+
 __all__ = [
     "hertz_compliance",
     "hertz_sphere_plane",
@@ -38,9 +40,11 @@ def _as_array(value: ArrayLike, field: str) -> np.ndarray:
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise ValueError(f"{field} = {value!r}; must be a number or an array of numbers") from None
+        raise PoundingInputError(
+            f"{field} = {value!r}; must be a number or an array of numbers"
+        ) from None
     if np.isnan(arr).any():
-        raise ValueError(f"{field} = {value!r}; NaN is not allowed")
+        raise PoundingInputError(f"{field} = {value!r}; NaN is not allowed")
     return arr
 
 
@@ -52,7 +56,7 @@ def _check(arr: np.ndarray, ok: np.ndarray, field: str, allowed: str) -> None:
     bad = np.flatnonzero(~np.broadcast_to(ok, arr.shape))
     if bad.size:
         value = float(arr.reshape(-1)[bad[0]])
-        raise ValueError(f"{field} = {value:g}; allowed: {allowed}")
+        raise PoundingInputError(f"{field} = {value:g}; allowed: {allowed}")
 
 
 def springs_in_series(*stiffnesses: ArrayLike) -> float | np.ndarray:
@@ -92,7 +96,7 @@ def springs_in_series(*stiffnesses: ArrayLike) -> float | np.ndarray:
     1.0
     """
     if not stiffnesses:
-        raise ValueError("springs_in_series needs at least one stiffness (> 0)")
+        raise PoundingInputError("springs_in_series needs at least one stiffness (> 0)")
     compliance = 0.0
     for i, k in enumerate(stiffnesses):
         arr = _as_array(k, f"stiffnesses[{i}]")

@@ -7,6 +7,10 @@ from typing import Any
 
 import numpy as np
 
+from pounding.errors import ConvergenceError
+
+__all__ = ["ENERGY_TERMS", "IMPACT_FIELDS", "ConvergenceError", "RawResult"]
+
 #: Columns of :attr:`RawResult.energy`, in order.
 ENERGY_TERMS = (
     "input",
@@ -29,10 +33,6 @@ IMPACT_FIELDS = (
     "max_penetration",
     "impulse",
 )
-
-
-class ConvergenceError(RuntimeError):
-    """Newton-Raphson did not converge even after the allowed step subdivisions."""
 
 
 @dataclasses.dataclass(eq=False)

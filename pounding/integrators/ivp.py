@@ -64,6 +64,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
+from pounding.errors import IntegrationError, PoundingInputError
 from pounding.ground_motion import GroundMotion, ground_velocity
 from pounding.integrators._kernels import (
     BILINEAR_ID,
@@ -216,33 +217,37 @@ def _validate(
     method: str, rtol: float, atol: float | None, max_step: float | None, output_times
 ) -> tuple[str, float, float | None, float, np.ndarray]:
     if not isinstance(method, str) or method.upper() not in {m.upper() for m in IVP_METHODS}:
-        raise ValueError(f"ivp method = {method!r}; allowed: {', '.join(IVP_METHODS)}")
+        raise PoundingInputError(f"ivp method = {method!r}; allowed: {', '.join(IVP_METHODS)}")
     method = next(m for m in IVP_METHODS if m.upper() == method.upper())
     rtol = float(rtol)
     if not (math.isfinite(rtol) and 100.0 * _EPS <= rtol < 1.0):
-        raise ValueError(f"rtol = {rtol}; allowed: a relative tolerance in [{100 * _EPS:.3g}, 1)")
+        raise PoundingInputError(
+            f"rtol = {rtol}; allowed: a relative tolerance in [{100 * _EPS:.3g}, 1)"
+        )
     if atol is not None:
         atol = float(atol)
         if not (math.isfinite(atol) and atol > 0.0):
-            raise ValueError(f"atol = {atol}; allowed: a positive absolute tolerance [m] or None")
+            raise PoundingInputError(
+                f"atol = {atol}; allowed: a positive absolute tolerance [m] or None"
+            )
     if max_step is None:
         max_step = math.inf
     else:
         max_step = float(max_step)
         if not (max_step > 0.0) or math.isnan(max_step):
-            raise ValueError(f"max_step = {max_step}; allowed: a positive step [s] or None")
+            raise PoundingInputError(f"max_step = {max_step}; allowed: a positive step [s] or None")
     times = np.asarray(output_times, dtype=float)
     if times.ndim != 1 or times.size == 0:
-        raise ValueError(
+        raise PoundingInputError(
             f"output_times has shape {times.shape}; allowed: a non-empty 1-D array of times [s]"
         )
     if not np.all(np.isfinite(times)) or times[0] < 0.0:
-        raise ValueError(
+        raise PoundingInputError(
             f"output_times starts at {times[0]} s; allowed: finite times >= 0 [s] (t = 0 is rest)"
         )
     if times.size > 1 and not np.all(np.diff(times) > 0.0):
         i = int(np.flatnonzero(np.diff(times) <= 0.0)[0])
-        raise ValueError(
+        raise PoundingInputError(
             f"output_times[{i + 1}] = {times[i + 1]} s after {times[i]} s; allowed: strictly "
             "increasing times"
         )
@@ -286,7 +291,9 @@ class _Model:
         fr = system.friction
         self.nf = nf = len(fr)
         if nf and np.count_nonzero(self.mass - np.diag(np.diag(self.mass))):
-            raise ValueError("the ivp path with isolation bearings needs a diagonal mass matrix")
+            raise PoundingInputError(
+                "the ivp path with isolation bearings needs a diagonal mass matrix"
+            )
         self.fr_dof = np.ascontiguousarray(fr.fr_dof, dtype=np.int64)
         self.fr_kind = np.ascontiguousarray(fr.fr_kind, dtype=np.int64)
         self.fr_law = np.ascontiguousarray(fr.fr_law, dtype=np.int64)
@@ -728,9 +735,9 @@ def integrate_ivp(
     """
     method, rtol, atol, max_step, times = _validate(method, rtol, atol, max_step, output_times)
     if not isinstance(system, PoundingSystem):
-        raise ValueError(f"system = {type(system).__name__}; allowed: a PoundingSystem")
+        raise PoundingInputError(f"system = {type(system).__name__}; allowed: a PoundingSystem")
     if not isinstance(ground, GroundMotion):
-        raise ValueError(f"ground = {type(ground).__name__}; allowed: a GroundMotion")
+        raise PoundingInputError(f"ground = {type(ground).__name__}; allowed: a GroundMotion")
 
     model = _Model(system)
     atol_vec, atol_u = model.tolerances(system, ground, rtol, atol)
@@ -768,7 +775,7 @@ def integrate_ivp(
             n_calls += 1
             n_rhs += int(sol.nfev)
             if sol.status < 0:
-                raise RuntimeError(
+                raise IntegrationError(
                     f"solve_ivp ({method}) failed at t = {sol.t[-1]:.6g} s: {sol.message}"
                 )
             t_new = float(sol.t[-1])
@@ -783,7 +790,7 @@ def integrate_ivp(
             else:
                 stalls += 1
                 if stalls > 3 * (model.ne + model.coulomb.size) + 3:
-                    raise RuntimeError(
+                    raise IntegrationError(
                         f"solve_ivp restarts made no progress at t = {t:.9g} s (contact events "
                         "firing at the restart point)"
                     )

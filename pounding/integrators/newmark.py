@@ -114,6 +114,33 @@ def contact_duration_coefficients(system: PoundingSystem) -> tuple[np.ndarray, n
     return coef, expo
 
 
+def _contacts_at_failure(
+    system: PoundingSystem,
+    imp_el: np.ndarray,
+    imp_val: np.ndarray,
+    counters: np.ndarray,
+    d_out: np.ndarray,
+    t: float,
+    output_step: float,
+) -> str:
+    """Name the gap elements in contact when Newton failed: impacts still open in the log, else the
+    gap that was closest to closing at the last stored output."""
+    el = system.elements
+    n_imp = min(int(counters[kn.CNT_IMPACTS]), imp_el.size)
+    open_ = sorted({int(imp_el[i]) for i in range(n_imp) if np.isnan(imp_val[i, kn.IMP_END])})
+    label = "contact"
+    if not open_ and len(el):
+        row = min(int(t / output_step), d_out.shape[0] - 1)
+        open_ = [int(np.argmax(d_out[row]))]
+        label = "closing contact"
+    names = [
+        f"{c} ({el.left[c]}:{int(el.left_floor[c])}-{el.right[c]}:{int(el.right_floor[c])}, "
+        f"{el.law[c]})"
+        for c in open_
+    ]
+    return f"{label}{'s' if len(names) > 1 else ''} {', '.join(names)}" if names else "no contact"
+
+
 def integrate_newmark(
     system: PoundingSystem,
     ground: GroundMotion,
@@ -179,9 +206,14 @@ def integrate_newmark(
             impact_capacity *= 4
             continue
         if status == kn.STATUS_NO_CONVERGENCE:
+            where = _contacts_at_failure(
+                system, imp_el, imp_val, counters, out["d"], t_reached, dt * output_every
+            )
             raise ConvergenceError(
-                f"Newton-Raphson did not converge at t = {t_reached:.6g} s even with the step halved "
-                f"{max_halvings} times (dt = {dt:.3g} s); reduce dt or check the contact parameters"
+                f"Newton-Raphson did not converge at t = {t_reached:.6g} s, {where}, with dt = "
+                f"{dt:.3g} s, max_iter = {max_iter} and the step halved up to {max_halvings} times; "
+                "try [analysis] max_halvings = 12, max_iter = 25, locate_onset = true, adaptive = "
+                "true, a smaller dt, or a softer contact k"
             )
         break
     n_imp = int(counters[kn.CNT_IMPACTS])

@@ -40,6 +40,7 @@ from pounding import plots
 from pounding._version import __version__
 from pounding.contact.calibrate import effective_restitution
 from pounding.contact.laws import get_contact_law
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import INTENSITY_MEASURES, GroundMotion, intensity_measures
 from pounding.spectra import response_spectra, response_spectrum
 from pounding.units import G
@@ -891,7 +892,7 @@ def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:
             return _separation_report(ds)
         if "displacement" in ds and "time" in ds.dims:
             return _analysis_report(ds)
-    raise ValueError(
+    raise PoundingInputError(
         "report: the Dataset is none of an analysis (pounding run), a study (pounding study) or a "
         "separation check (pounding separation)"
     )
@@ -1084,7 +1085,9 @@ def write_report(
     """
     bad = [f for f in formats if f not in FORMATS]
     if bad:
-        raise ValueError(f"report format(s) {', '.join(bad)}; allowed: {', '.join(FORMATS)}")
+        raise PoundingInputError(
+            f"report format(s) {', '.join(bad)}; allowed: {', '.join(FORMATS)}"
+        )
     store = None
     if ds.attrs.get("pounding_kind") == "study":
         recorded = Path(str(ds.attrs.get("store", "")))

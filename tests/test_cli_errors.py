@@ -1,0 +1,143 @@
+"""What a user sees when something goes wrong: one line and exit 2 for their errors, a traceback and a
+request to report it for ours; help that keeps its units; quiet ends on a closed pipe."""
+
+from __future__ import annotations
+
+import importlib
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import click
+import pytest
+import typer
+from typer.testing import CliRunner
+
+from pounding._version import __version__
+from pounding.cli import app
+from pounding.errors import ConvergenceError, PoundingError, PoundingInputError
+
+ROOT = Path(__file__).resolve().parents[1]
+TWO_SDOF = ROOT / "examples" / "two_sdof.toml"
+runner = CliRunner()
+# the module, not the function the package exports under the same name
+_SIMULATE = importlib.import_module("pounding.simulate")
+_CLI = "import sys; from pounding.cli import main; sys.argv[0] = 'pounding'; main()"
+
+
+def _no_convergence_case(tmp_path: Path) -> Path:
+    """The first-hour reproducer: one Newton iteration, no halving, no onset location, a 10 ms step."""
+    text = TWO_SDOF.read_text().replace(
+        "[analysis]\n",
+        "[analysis]\ndt = 0.01\nmax_iter = 1\nmax_halvings = 0\nlocate_onset = false\n"
+        "adaptive = false\n",
+    )
+    path = tmp_path / "no_convergence.toml"
+    path.write_text(text)
+    return path
+
+
+def test_error_classes_share_one_base_and_keep_the_builtin_ones():
+    from pounding.case import CaseError
+    from pounding.records import RecordFormatError, SuiteUnavailableError
+    from pounding.studies import StudyError
+
+    for cls in (CaseError, StudyError, RecordFormatError, SuiteUnavailableError):
+        assert issubclass(cls, PoundingInputError) and issubclass(cls, ValueError)
+    assert issubclass(ConvergenceError, PoundingError) and issubclass(
+        ConvergenceError, RuntimeError
+    )
+
+
+def test_run_that_does_not_converge_is_one_line_naming_time_contact_and_remedy(tmp_path):
+    out = tmp_path / "out.nc"
+    res = runner.invoke(app, ["run", str(_no_convergence_case(tmp_path)), "-o", str(out)])
+    assert res.exit_code == 2
+    lines = res.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: Newton-Raphson did not converge at t =")
+    assert "contact 0 (A:1-B:1, hunt_crossley)" in lines[0]
+    assert "max_halvings" in lines[0] and "Traceback" not in res.output
+    assert not out.exists()
+
+
+def test_a_bug_shows_its_traceback_and_asks_to_report_it(tmp_path, monkeypatch):
+    def broken(*args, **kwargs):
+        raise TypeError("an internal mistake")
+
+    monkeypatch.setattr(_SIMULATE, "simulate", broken)
+    res = runner.invoke(app, ["run", str(TWO_SDOF)])
+    assert res.exit_code == 1
+    assert "Traceback" in res.output and "TypeError: an internal mistake" in res.output
+    assert f"this is a bug in pounding {__version__}" in res.output
+
+
+def test_a_key_error_from_a_bug_is_not_taken_for_a_user_error(monkeypatch):
+    def broken(*args, **kwargs):
+        return {}["missing"]
+
+    monkeypatch.setattr(_SIMULATE, "simulate", broken)
+    res = runner.invoke(app, ["run", str(TWO_SDOF)])
+    assert res.exit_code == 1 and "KeyError" in res.output
+
+
+def test_report_of_a_case_file_says_what_report_takes(tmp_path):
+    res = runner.invoke(app, ["report", str(TWO_SDOF), "-o", str(tmp_path / "r")])
+    assert res.exit_code == 2
+    assert "is not a pounding result" in res.output
+    assert "pounding run -o" in res.output and "signature" not in res.output
+
+
+def test_broken_pipe_ends_quietly():
+    # `pounding laws | head -1`: the reader closes the pipe after one line
+    proc = subprocess.run(
+        f'{sys.executable} -c "{_CLI}" laws | head -1',
+        shell=True,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.stdout.startswith("contact laws")
+    assert proc.stderr == ""
+
+
+def test_version_and_short_help():
+    res = runner.invoke(app, ["--version"])
+    assert res.exit_code == 0 and res.output.strip() == f"pounding {__version__}"
+    res = runner.invoke(app, ["-h"])
+    assert res.exit_code == 0 and "run" in res.output and "--version" in res.output
+    assert runner.invoke(app, ["run", "-h"]).exit_code == 0
+
+
+def _commands(cmd: click.Command, path: tuple[str, ...] = ()):
+    yield path, cmd
+    for name, sub in getattr(cmd, "commands", {}).items():
+        yield from _commands(sub, (*path, name))
+
+
+_BRACKETED = re.compile(r"\[[^\]\s]+\]")
+
+
+@pytest.mark.parametrize(
+    "path",
+    [p for p, _ in _commands(typer.main.get_command(app))],
+    ids=lambda p: " ".join(p) or "pounding",
+)
+def test_every_help_shows_its_units_and_table_names(path):
+    """Units such as [s], [m], [kg], [g] and table names such as [analysis] survive the help
+    rendering (rich markup used to take them for tags and drop them)."""
+    cmd = dict(_commands(typer.main.get_command(app)))[path]
+    texts = [cmd.help or ""] + [getattr(p, "help", None) or "" for p in cmd.params]
+    expected = {m for t in texts for m in _BRACKETED.findall(t)}
+    res = runner.invoke(app, [*path, "--help"], terminal_width=200)
+    assert res.exit_code == 0, res.output
+    shown = " ".join(res.output.split())
+    missing = sorted(tok for tok in expected if tok not in shown)
+    assert not missing, f"{' '.join(path)} --help lost {missing}"
+
+
+def test_help_shows_the_units_the_first_hour_report_found_missing():
+    out = " ".join(runner.invoke(app, ["run", "--help"], terminal_width=200).output.split())
+    assert "Override the integration step [s]" in out
+    out = " ".join(runner.invoke(app, ["separation", "--help"], terminal_width=200).output.split())
+    assert "ASCE 7 S_DS [g]" in out
