@@ -23,8 +23,11 @@ test-setup:
 	  || (apt-get update && apt-get install -y chromium poppler-utils) \
 	  || echo "warning: could not install chromium and poppler-utils; the report tests that need them will be skipped"
 
+# After the tests: install pounding as a user would (plain `pip install .`, and -e with each extra alone)
+# into throw-away venvs and run `pounding run` + read the NetCDF back (tests/install_check.py).
 test: $(STAMP) test-setup
 	$(BIN)/python -m pytest -q
+	$(BIN)/python tests/install_check.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check . && $(BIN)/ruff format --check .
