@@ -33,7 +33,12 @@ How the integration is cut into pieces:
   (the history variable of the Hunt-Crossley family and ``hertz_kelvin``) and the bilinear force state
   reset to 0; the integration restarts there, so each contact phase starts cleanly. The event direction
   follows the element's state, so an event does not fire again at the restart point. Force kinks inside
-  a phase (a Kelvin force clamped at zero while δ > 0) are not events.
+  a phase (a Kelvin force clamped at zero while δ > 0) are not events. A closure fires at δ = ε_δ, ten
+  displacement tolerances of the solver: a penetration below that is round-off and carries no force
+  worth an impact (identical buildings at zero gap). A separation and re-closure, or a grazing touch,
+  can fall inside one solver step with no sign change of δ at the step ends; so every extremum of δ is
+  a (non-terminal) event too, and a minimum below −ε_δ while closed (maximum above ε_δ while open)
+  sends the integration back to the crossing before it, located on the dense output.
 * **Coulomb stick-slip** (isolated buildings with the ``coulomb`` law). A sliding slab carries
   f = ±μ_d N and has a terminal event u̇_b = 0 (direction against its motion): there the velocity is set
   to exactly 0 and the stick test decides, |p| <= μ_s N with p the force that holds the slab at rest
@@ -62,7 +67,7 @@ import math
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq, minimize_scalar
 
 from pounding.errors import IntegrationError, PoundingInputError
 from pounding.ground_motion import GroundMotion, ground_velocity
@@ -321,6 +326,7 @@ class _Model:
         self.size = 2 * n + nb + ne + nz + (4 if nf else 3)
         # history variables (per contact phase)
         self.v0 = np.zeros(ne)
+        self.d_tol = 0.0  # [m], set by tolerances()
         # a_g(t) = ag[0] + ag[1] (t − ag[2]) on the current ground-motion segment
         self.ag = np.zeros(3)
         self._ws = np.zeros((5, ne))  # workspace of the compiled right-hand side
@@ -471,6 +477,8 @@ class _Model:
         if self.nf:
             scale[self.i_fric] = e_c
         factor = rtol if atol is None else atol / u_c
+        # penetrations below ten displacement tolerances are round-off, not contact (see _events)
+        self.d_tol = 10.0 * factor * u_c
         return factor * scale, factor * u_c
 
 
@@ -607,11 +615,19 @@ def _breakpoints(ground: GroundMotion, t_end: float) -> np.ndarray:
 
 
 def _events(model: _Model, in_contact: np.ndarray) -> list:
-    """δ_c = 0 for every element: upward (closure) if open, downward (separation) if closed."""
+    """Terminal events: δ_c = ε_δ upward (closure) for an open element, δ_c = 0 downward (separation)
+    for a closed one, then the friction events. Then one non-terminal event per element at each
+    extremum of δ_c (δ̇_c = 0: a minimum while closed, a maximum while open), which
+    :func:`_missed_switch` checks for a separation or closure that fell inside one solver step.
+
+    ε_δ (:attr:`_Model.d_tol`) is the solver's own displacement tolerance: a penetration below it
+    carries no force worth an impact (two identical buildings at zero gap stay at δ ≈ 0 by round-off).
+    """
     n = model.n
     events = []
     for c in range(model.ne):
-        row, g = model.B[c], float(model.gap[c])
+        row = model.B[c]
+        g = float(model.gap[c]) + (0.0 if in_contact[c] else model.d_tol)
 
         def event(t, y, row=row, g=g):
             return float(row @ y[:n]) - g
@@ -619,7 +635,50 @@ def _events(model: _Model, in_contact: np.ndarray) -> list:
         event.terminal = True
         event.direction = -1.0 if in_contact[c] else 1.0
         events.append(event)
-    return events + _friction_events(model)
+    events += _friction_events(model)
+    for c in range(model.ne):
+        row = model.B[c]
+
+        def extremum(t, y, row=row):
+            return float(row @ y[n : 2 * n])
+
+        extremum.terminal = False
+        extremum.direction = 1.0 if in_contact[c] else -1.0
+        events.append(extremum)
+    return events
+
+
+def _missed_switch(model: _Model, sol, t0: float, in_contact: np.ndarray) -> tuple[float, int]:
+    """(time, element) of the earliest separation or closure that happened inside a solver step and
+    so gave no sign change of δ at the step ends (a 2 ms dip below zero while in contact, a grazing
+    touch while open); (inf, -1) if none.
+
+    Every extremum of δ_c is an event (:func:`_events`); a minimum below −ε_δ while closed (a maximum
+    above ε_δ while open) means δ crossed zero since the previous extremum of the same element (or
+    the start t0 of this solver call), once. That crossing is located by Brent's method on the dense
+    output.
+    """
+    first, which = math.inf, -1
+    base = len(sol.t_events) - model.ne
+    for c in range(model.ne):
+        times, states = sol.t_events[base + c], sol.y_events[base + c]
+        lo = t0
+        for te, ye in zip(times, states, strict=True):
+            d = float(model.B[c] @ ye[: model.n]) - model.gap[c]
+            wrong = d < -model.d_tol if in_contact[c] else d > model.d_tol
+            if wrong:
+                if te < first:
+                    sign = 1.0 if in_contact[c] else -1.0
+                    level = model.gap[c] + (0.0 if in_contact[c] else model.d_tol)
+
+                    def f(tt, c=c, level=level, sign=sign):
+                        return sign * (float(model.B[c] @ sol.sol(tt)[: model.n]) - level)
+
+                    if f(lo) >= 0.0 > f(te):
+                        first, which = brentq(f, lo, te, xtol=1e-14 * max(1.0, te)), c
+                break
+            lo = te
+    return first, which
 
 
 def _friction_events(model: _Model) -> list:
@@ -780,6 +839,13 @@ def integrate_ivp(
                 )
             t_new = float(sol.t[-1])
             ts = sol.sol.ts
+            t_miss, c_miss = (
+                _missed_switch(model, sol, t, in_contact) if model.ne else (math.inf, -1)
+            )
+            if c_miss >= 0:
+                # the state after the missed crossing is wrong: keep the call up to it, restart there
+                t_new = t_miss
+                ts = np.append(ts[ts < t_miss], t_miss)
             if ts.size > 1 and ts[-1] > ts[0]:
                 n_steps += ts.size - 1
                 rec.track(model, sol.sol, ts, in_contact)
@@ -794,10 +860,17 @@ def integrate_ivp(
                         f"solve_ivp restarts made no progress at t = {t:.9g} s (contact events "
                         "firing at the restart point)"
                     )
+            if c_miss >= 0:
+                y = np.asarray(sol.sol(t_new), dtype=float).copy()
+                t = t_new
+                n_events += _switch(model, rec, y, t, in_contact, [c_miss])
+                first_step = None
+                continue
             y = sol.y[:, -1].copy()
             t = t_new
             if sol.status == 1:
-                fired = [c for c, te in enumerate(sol.t_events) if te.size]
+                n_term = model.ne + model.coulomb.size  # the terminal events come first
+                fired = [c for c, te in enumerate(sol.t_events[:n_term]) if te.size]
                 n_events += _switch(
                     model, rec, y, t, in_contact, [c for c in fired if c < model.ne]
                 )
