@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +16,15 @@ from pounding.integrators.newmark import HHT, get_scheme, integrate_newmark
 from pounding.simulate import simulate
 from pounding.structure import ModalDamping, ShearBuilding
 from pounding.system import Contact, assemble
+from pounding.units import G
+
+ELCENTRO = (
+    Path(__file__).resolve().parents[2]
+    / "shared"
+    / "data"
+    / "ground_motions"
+    / "elcentro_1940_ns_g_dt002.txt"
+)
 
 
 def _sdof(period: float, mass: float = 1.0e5, xi: float = 0.05, name: str = "A") -> ShearBuilding:
@@ -254,6 +264,47 @@ def test_ivp_output_grid_is_the_requested_one():
     assert float(ds["time"][1] - ds["time"][0]) == pytest.approx(1e-3)
 
 
+def test_output_dt_finer_than_the_default_step_is_honoured_two_sdof():
+    # issue 12: output_dt = 0.001 gave a 0.01 s grid. examples/two_sdof.toml (T = 0.5 s and 1.0 s,
+    # Hunt-Crossley impacts): the default step 0.5/160 s is shortened to 1 ms, the values follow ivp
+    from pounding.case import load_case
+
+    case = load_case(Path(__file__).resolve().parents[1] / "examples" / "two_sdof.toml")
+    nm = simulate(case, output_dt=1e-3, duration=3.0)
+    assert nm.attrs["output_dt"] == pytest.approx(1e-3) and nm.attrs["dt"] == pytest.approx(1e-3)
+    np.testing.assert_allclose(np.diff(nm["time"].values), 1e-3, rtol=1e-9)
+    assert int(nm["impact_count"].sum()) > 0
+    ivp = simulate(case, method="ivp", rtol=1e-11, output_dt=1e-3, duration=3.0)
+    assert ivp.sizes["time"] == nm.sizes["time"]
+    u, ref = nm["displacement"].values, ivp["displacement"].values
+    peak = np.nanmax(np.abs(ref), axis=(0, 2))
+    assert np.all(np.nanmax(np.abs(u - ref), axis=(0, 2)) < 3e-3 * peak)
+
+
+@pytest.fixture(scope="module")
+def elcentro() -> GroundMotion:
+    if not ELCENTRO.exists():
+        pytest.skip("shared El Centro record (../shared/data/ground_motions) not available")
+    data = np.loadtxt(ELCENTRO)
+    return GroundMotion(data[:, 1] * G, 0.02, name="El Centro 1940 NS")
+
+
+def test_default_steps_keep_pointwise_error_within_0p3_percent_of_peak_el_centro(elcentro):
+    # issue 12: a one-story building has its fundamental period as its shortest, the worst case of
+    # steps_per_period (2 % of the peak at the former 40 per period); first 15 s of El Centro NS
+    system = assemble([_sdof(0.2, mass=3e5), _sdof(0.35, mass=3e5, name="B")])
+    nm = simulate(system, elcentro, duration=15.0)
+    ivp = simulate(system, elcentro, method="ivp", rtol=1e-11, duration=15.0)
+    u, ref = nm["displacement"].values[:, :, 0], ivp["displacement"].values[:, :, 0]
+    error = np.abs(u - ref).max(axis=0) / np.abs(ref).max(axis=0)
+    assert np.all(error < 3e-3), error
+    coarse = simulate(system, elcentro, duration=15.0, steps_per_period=40)
+    assert (
+        np.abs(coarse["displacement"].values[:, 0, 0] - ref[:, 0]).max()
+        > 1e-2 * np.abs(ref[:, 0]).max()
+    )
+
+
 @pytest.mark.parametrize(
     "open_floors", [(), (1,), (0, 2)], ids=["all_closed", "2_open", "1_3_open"]
 )
@@ -352,8 +403,11 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
         ({"dt": 1e-3, "output_dt": 2e-3, "duration": 0.5}, (1e-3, 2e-3, 2, 250)),
         # 3 ms does not divide 10 ms: 4 steps of 2.5 ms; 0.501 s rounds up to 51 outputs
         ({"dt": 3e-3, "output_dt": 1e-2, "duration": 0.501}, (2.5e-3, 1e-2, 4, 51)),
-        # output finer than the step: the output follows the step
-        ({"dt": 4e-3, "output_dt": 1e-3, "duration": 0.2}, (4e-3, 4e-3, 1, 50)),
+        # output finer than the step (issue 12): the step is shortened to the output step
+        ({"dt": 4e-3, "output_dt": 1e-3, "duration": 0.2}, (1e-3, 1e-3, 1, 200)),
+        # no output step given: 5 ms, or the step when that is longer
+        ({"dt": 1e-3, "duration": 0.2}, (1e-3, 5e-3, 5, 40)),
+        ({"dt": 8e-3, "duration": 0.2}, (8e-3, 8e-3, 1, 25)),
     ],
 )
 def test_step_plan_fits_whole_steps_into_each_output_and_run_follows_it(options, expected):
