@@ -250,10 +250,17 @@ def _print_separation(ds: Any, path: str | None) -> None:
     shown = ", ".join(recs[:4]) + (f", ... ({len(recs)} in all)" if len(recs) > 4 else "")
     typer.echo(f"separation distance: {s['title'] or 'case'}")
     typer.echo(f"  records: {shown}")
-    typer.echo(
-        f"  exact gaps: time histories without contact, method {s['method']}, dt {s['dt']:.3g} s, "
-        f"duration {attrs.get('duration', math.nan):.4g} s, max over every integration step"
-    )
+    if s["method"] == "modal_exact":
+        typer.echo(
+            "  exact gaps: time histories without contact, exact modal solution (Nigam-Jennings, "
+            f"record linear between samples), sub-step {s['dt']:.3g} s, duration "
+            f"{attrs.get('duration', math.nan):.4g} s, max between sub-steps (cubic Hermite)"
+        )
+    else:
+        typer.echo(
+            f"  exact gaps: time histories without contact, method {s['method']}, dt {s['dt']:.3g} "
+            f"s, duration {attrs.get('duration', math.nan):.4g} s, max over every integration step"
+        )
     typer.echo(f"  spectral and code estimates: {s['spectrum']}")
     if "option_c_d" in attrs:
         typer.echo(
