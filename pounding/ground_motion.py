@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from pounding.errors import PoundingInputError
 from pounding.units import G
 
 
@@ -44,20 +45,22 @@ class GroundMotion:
     def __post_init__(self) -> None:
         acc = np.array(self.acceleration, dtype=float, copy=True)
         if acc.ndim != 1:
-            raise ValueError(
+            raise PoundingInputError(
                 f"ground motion {self.name!r}: acceleration must be 1-D, got {acc.ndim}-D"
             )
         if acc.size < 2:
-            raise ValueError(f"ground motion {self.name!r}: acceleration needs >= 2 samples")
+            raise PoundingInputError(
+                f"ground motion {self.name!r}: acceleration needs >= 2 samples"
+            )
         bad = np.flatnonzero(~np.isfinite(acc))
         if bad.size:
-            raise ValueError(
+            raise PoundingInputError(
                 f"ground motion {self.name!r}: acceleration sample {bad[0]} is {acc[bad[0]]}; "
                 "all samples must be finite"
             )
         dt = float(self.dt)
         if not (math.isfinite(dt) and dt > 0.0):
-            raise ValueError(
+            raise PoundingInputError(
                 f"ground motion {self.name!r}: dt must be a positive number [s], got {dt}"
             )
         acc.setflags(write=False)
@@ -119,15 +122,15 @@ class GroundMotion:
     def scaled(self, factor: float) -> GroundMotion:
         """The record multiplied by ``factor``."""
         if not math.isfinite(factor):
-            raise ValueError(f"scale factor must be finite, got {factor}")
+            raise PoundingInputError(f"scale factor must be finite, got {factor}")
         return self.with_step(f"scaled by {factor:g}", self.acceleration * factor)
 
 
 def _grid(duration: float, dt: float, what: str) -> np.ndarray:
     if not (duration > 0 and math.isfinite(duration)):
-        raise ValueError(f"{what}: duration must be > 0 [s], got {duration}")
+        raise PoundingInputError(f"{what}: duration must be > 0 [s], got {duration}")
     if not (dt > 0 and math.isfinite(dt)):
-        raise ValueError(f"{what}: dt must be > 0 [s], got {dt}")
+        raise PoundingInputError(f"{what}: dt must be > 0 [s], got {dt}")
     n = int(math.floor(duration / dt + 1e-9)) + 1
     return dt * np.arange(n)
 
@@ -135,7 +138,7 @@ def _grid(duration: float, dt: float, what: str) -> np.ndarray:
 def _positive(value: float, field: str, what: str) -> float:
     value = float(value)
     if not (value > 0 and math.isfinite(value)):
-        raise ValueError(f"{what}: {field} must be a positive number, got {value}")
+        raise PoundingInputError(f"{what}: {field} must be a positive number, got {value}")
     return value
 
 
@@ -215,7 +218,9 @@ def analytic(kind: str, **params: Any) -> GroundMotion:
         factory = ANALYTIC_MOTIONS[kind]
     except KeyError:
         allowed = ", ".join(ANALYTIC_MOTIONS)
-        raise ValueError(f"unknown ground motion type {kind!r}; allowed: {allowed}") from None
+        raise PoundingInputError(
+            f"unknown ground motion type {kind!r}; allowed: {allowed}"
+        ) from None
     return factory(**params)
 
 
@@ -256,7 +261,7 @@ def ground_displacement(gm: GroundMotion) -> np.ndarray:
 def _check_range(value: float, field: str, low: float, high: float, what: str) -> float:
     value = float(value)
     if not (math.isfinite(value) and low <= value <= high):
-        raise ValueError(f"{what}: {field} must be in [{low:g}, {high:g}], got {value}")
+        raise PoundingInputError(f"{what}: {field} must be in [{low:g}, {high:g}], got {value}")
     return value
 
 
@@ -289,7 +294,9 @@ def baseline_correct(gm: GroundMotion, *, order: int = 2) -> GroundMotion:
        doi:10.1016/j.soildyn.2004.10.007
     """
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or not 2 <= order <= 10:
-        raise ValueError(f"baseline_correct: order must be an integer in 2..10, got {order!r}")
+        raise PoundingInputError(
+            f"baseline_correct: order must be an integer in 2..10, got {order!r}"
+        )
     # The record starts at rest, so the displacement baseline has no constant or linear term:
     # fit d(t) ≈ Σ_{j=2..order} c_j t^j. (A full polynomial would leave p'(0) t in the corrected
     # displacement, because integrating p'' from rest gives back p − p(0) − p'(0) t only.)
@@ -329,21 +336,21 @@ def bandpass(
     what = "bandpass"
     nyquist = 0.5 / gm.dt
     if low is None and high is None:
-        raise ValueError(f"{what}: give at least one of low, high [Hz]")
+        raise PoundingInputError(f"{what}: give at least one of low, high [Hz]")
     if not isinstance(order, (int, np.integer)) or not 1 <= order <= 10:
-        raise ValueError(f"{what}: order must be an integer in 1..10, got {order!r}")
+        raise PoundingInputError(f"{what}: order must be an integer in 1..10, got {order!r}")
     if low is not None:
         low = _check_range(low, "low", 0.0, nyquist, what)
         if low == 0.0:
-            raise ValueError(f"{what}: low must be > 0 Hz, got 0")
+            raise PoundingInputError(f"{what}: low must be > 0 Hz, got 0")
     if high is not None:
         high = _check_range(high, "high", 0.0, nyquist, what)
         if high >= nyquist or high == 0.0:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{what}: high must be in (0, {nyquist:g}) Hz (below Nyquist), got {high:g}"
             )
     if low is not None and high is not None and not low < high:
-        raise ValueError(f"{what}: low ({low:g} Hz) must be below high ({high:g} Hz)")
+        raise PoundingInputError(f"{what}: low ({low:g} Hz) must be below high ({high:g} Hz)")
     if low is None:
         sos = signal.butter(order, high, btype="lowpass", fs=1.0 / gm.dt, output="sos")
     elif high is None:
@@ -362,7 +369,7 @@ def taper(gm: GroundMotion, *, fraction: float = 0.05, side: str = "both") -> Gr
     what = "taper"
     fraction = _check_range(fraction, "fraction", 0.0, 0.5, what)
     if side not in ("start", "end", "both"):
-        raise ValueError(f"{what}: side must be 'start', 'end' or 'both', got {side!r}")
+        raise PoundingInputError(f"{what}: side must be 'start', 'end' or 'both', got {side!r}")
     n = gm.npts
     m = int(round(fraction * (n - 1)))
     w = np.ones(n)
@@ -416,7 +423,7 @@ def resample(gm: GroundMotion, *, dt: float) -> GroundMotion:
         note = f"anti-alias low-pass {corner:.4g} Hz, linear interpolation"
     n = int(math.floor(gm.duration / dt + 1e-9)) + 1
     if n < 2:
-        raise ValueError(f"resample: dt = {dt:g} s leaves fewer than 2 samples")
+        raise PoundingInputError(f"resample: dt = {dt:g} s leaves fewer than 2 samples")
     t_new = dt * np.arange(n)
     return gm.with_step(
         f"resampled from dt={gm.dt:g} s to dt={dt:g} s ({note})",
@@ -442,7 +449,7 @@ def trim_significant(
     start = _check_range(start, "start", 0.0, 1.0, what)
     end = _check_range(end, "end", 0.0, 1.0, what)
     if not start < end:
-        raise ValueError(f"{what}: start ({start}) must be below end ({end})")
+        raise PoundingInputError(f"{what}: start ({start}) must be below end ({end})")
     before = _check_range(before, "before", 0.0, math.inf, what)
     after = _check_range(after, "after", 0.0, math.inf, what)
     t1, t2 = significant_window(gm, start=start, end=end)
@@ -513,7 +520,7 @@ def process(gm: GroundMotion, step: str, **params: Any) -> GroundMotion:
         func = PROCESSING_STEPS[step]
     except KeyError:
         allowed = ", ".join(PROCESSING_STEPS)
-        raise ValueError(f"unknown processing step {step!r}; allowed: {allowed}") from None
+        raise PoundingInputError(f"unknown processing step {step!r}; allowed: {allowed}") from None
     return func(gm, **params)
 
 
@@ -552,7 +559,9 @@ def significant_window(
     """Times [s] at which the cumulative Arias intensity reaches ``start`` and ``end`` of its total."""
     h = husid(gm)
     if h[-1] <= 0.0:
-        raise ValueError(f"ground motion {gm.name!r}: zero Arias intensity, no significant window")
+        raise PoundingInputError(
+            f"ground motion {gm.name!r}: zero Arias intensity, no significant window"
+        )
     h = h / h[-1]
     # h is non-decreasing; interpolate on its strictly increasing part
     keep = np.concatenate(([True], np.diff(h) > 0))
@@ -737,14 +746,16 @@ def substeps(period, dt, steps_per_period):
 def _check_damping(damping: float) -> float:
     damping = float(damping)
     if not (math.isfinite(damping) and 0.0 <= damping < 1.0):
-        raise ValueError(f"damping ratio must be in [0, 1), got {damping}")
+        raise PoundingInputError(f"damping ratio must be in [0, 1), got {damping}")
     return damping
 
 
 def _check_periods(periods: Any) -> np.ndarray:
     p = np.atleast_1d(np.asarray(periods, dtype=float))
     if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p <= 0):
-        raise ValueError(f"periods must be a non-empty 1-D array of positive values [s], got {p}")
+        raise PoundingInputError(
+            f"periods must be a non-empty 1-D array of positive values [s], got {p}"
+        )
     return p
 
 

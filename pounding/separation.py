@@ -61,6 +61,7 @@ from scipy.stats import norm
 
 from pounding._version import __version__
 from pounding.case import Case, CaseError, load_case
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.records import resolve
 from pounding.simulate import AnalysisOptions, run, step_plan
@@ -109,9 +110,9 @@ def cqc_correlation(period_i: Any, period_j: Any, damping_i: Any, damping_j: Any
         *(np.asarray(x, dtype=float) for x in (period_i, period_j, damping_i, damping_j))
     )
     if np.any(~np.isfinite(ti) | (ti <= 0)) or np.any(~np.isfinite(tj) | (tj <= 0)):
-        raise ValueError("cqc_correlation: periods must be finite and > 0 [s]")
+        raise PoundingInputError("cqc_correlation: periods must be finite and > 0 [s]")
     if np.any(~((zi >= 0) & (zi < 1))) or np.any(~((zj >= 0) & (zj < 1))):
-        raise ValueError("cqc_correlation: damping ratios must be in [0, 1)")
+        raise PoundingInputError("cqc_correlation: damping ratios must be in [0, 1)")
     r = ti / tj
     num = 8.0 * np.sqrt(zi * zj) * (zi + r * zj) * r**1.5
     den = (1.0 - r**2) ** 2 + 4.0 * zi * zj * r * (1.0 + r**2) + 4.0 * (zi**2 + zj**2) * r**2
@@ -153,7 +154,7 @@ def combine_modes(contributions: Any, periods: Any, dampings: Any, rule: str = "
     rule : {"srss", "cqc"}
     """
     if rule not in MODAL_COMBINATIONS:
-        raise ValueError(
+        raise PoundingInputError(
             f"modal combination rule = {rule!r}; allowed: {', '.join(MODAL_COMBINATIONS)}"
         )
     c = np.asarray(contributions, dtype=float)
@@ -222,7 +223,7 @@ def modal_contributions(building: ShearBuilding, spectral_displacement: Any) -> 
     modal = building.modal()
     sd = np.asarray(spectral_displacement, dtype=float)
     if sd.shape != modal.periods.shape:
-        raise ValueError(
+        raise PoundingInputError(
             f"building {building.name!r}: spectral_displacement has shape {sd.shape}; "
             f"one value per mode is needed, shape {modal.periods.shape}"
         )
@@ -272,9 +273,9 @@ def _positive(value: Any, field: str) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{field} = {value!r}; allowed: a positive number") from None
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a positive number") from None
     if not (math.isfinite(v) and v > 0.0):
-        raise ValueError(f"{field} = {value!r}; allowed: a positive number")
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a positive number")
     return v
 
 
@@ -619,7 +620,7 @@ def exact_gaps(
     grounds = _as_grounds(case_or_system, grounds)
     pairs = facing_pairs(system)
     if not pairs:
-        raise ValueError(
+        raise PoundingInputError(
             "the system has no facing points: give at least two buildings with a floor at a common "
             "elevation, or contacts with explicit floors or walls"
         )
@@ -644,13 +645,13 @@ def _system_and_options(case_or_system: Any, analysis: Mapping[str, Any]):
 def _as_grounds(case_or_system: Any, grounds: Any) -> list[GroundMotion]:
     if grounds is None:
         if not isinstance(case_or_system, Case):
-            raise ValueError("grounds: give the record(s) when passing a PoundingSystem")
+            raise PoundingInputError("grounds: give the record(s) when passing a PoundingSystem")
         return [case_or_system.ground_motion]
     if isinstance(grounds, GroundMotion):
         return [grounds]
     grounds = list(grounds)
     if not grounds or not all(isinstance(g, GroundMotion) for g in grounds):
-        raise ValueError("grounds: give one or more GroundMotion objects")
+        raise PoundingInputError("grounds: give one or more GroundMotion objects")
     return grounds
 
 
@@ -695,7 +696,7 @@ def fit_lognormal(exact_gaps: Any) -> LognormalFit:
     """
     g = np.asarray(exact_gaps, float).ravel()
     if g.size == 0 or np.any(~np.isfinite(g)) or np.any(g < 0):
-        raise ValueError(f"exact gaps = {g!r}; allowed: one or more finite values >= 0 [m]")
+        raise PoundingInputError(f"exact gaps = {g!r}; allowed: one or more finite values >= 0 [m]")
     pos = g[g > 0]
     if pos.size == 0:
         return LognormalFit(math.nan, math.nan, 0.0, int(g.size))
@@ -736,7 +737,7 @@ def gap_for_probability(probability: float, fit: LognormalFit) -> float:
     (0 when P ≥ p: at least that fraction of the records never approach).
     """
     if not (0.0 < probability < 1.0):
-        raise ValueError(f"target probability = {probability!r}; allowed: 0 < P < 1")
+        raise PoundingInputError(f"target probability = {probability!r}; allowed: 0 < P < 1")
     if fit.fraction == 0.0 or probability >= fit.fraction:
         return 0.0
     return float(fit.median * math.exp(fit.beta * norm.isf(probability / fit.fraction)))
@@ -800,12 +801,12 @@ class SeparationOptions:
         w = "separation"
         records = (self.records,) if isinstance(self.records, str) else tuple(self.records)
         if not all(isinstance(r, str) and r.strip() for r in records):
-            raise ValueError(
+            raise PoundingInputError(
                 f"{w}.records = {self.records!r}; allowed: record references (strings)"
             )
         object.__setattr__(self, "records", records)
         if self.spectrum not in SPECTRUM_SOURCES:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{w}.spectrum = {self.spectrum!r}; allowed: {', '.join(SPECTRUM_SOURCES)}"
             )
         for name in ("s_ds", "s_d1", "t_l", "a_g", "c_d", "i_e", "r", "q", "q_d"):
@@ -813,33 +814,33 @@ class SeparationOptions:
             if value is not None:
                 object.__setattr__(self, name, _positive(value, f"{w}.{name}"))
         if self.spectrum == "asce7" and (self.s_ds is None or self.s_d1 is None):
-            raise ValueError(f"{w}: spectrum = 'asce7' needs s_ds and s_d1 [g]")
+            raise PoundingInputError(f"{w}: spectrum = 'asce7' needs s_ds and s_d1 [g]")
         if self.spectrum == "ec8" and self.a_g is None:
-            raise ValueError(f"{w}: spectrum = 'ec8' needs a_g [g]")
+            raise PoundingInputError(f"{w}: spectrum = 'ec8' needs a_g [g]")
         if self.spectrum_type not in EC8_GROUND_TYPES:
-            raise ValueError(f"{w}.spectrum_type = {self.spectrum_type!r}; allowed: 1, 2")
+            raise PoundingInputError(f"{w}.spectrum_type = {self.spectrum_type!r}; allowed: 1, 2")
         ground = str(self.ground_type).strip().upper()
         if ground not in EC8_GROUND_TYPES[self.spectrum_type]:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{w}.ground_type = {self.ground_type!r}; allowed: "
                 f"{', '.join(EC8_GROUND_TYPES[self.spectrum_type])}"
             )
         object.__setattr__(self, "ground_type", ground)
         if (self.c_d is None) != (self.r is None):
-            raise ValueError(
+            raise PoundingInputError(
                 f"{w}: the ASCE 7 estimates need both c_d (C_d) and r (R); got c_d = {self.c_d}, "
                 f"r = {self.r}"
             )
         if self.q_d is not None and self.q is None:
-            raise ValueError(f"{w}: q_d = {self.q_d} needs the behaviour factor q as well")
+            raise PoundingInputError(f"{w}: q_d = {self.q_d} needs the behaviour factor q as well")
         p = float(self.target_probability)
         if not (0.0 < p < 1.0):
-            raise ValueError(f"{w}.target_probability = {p}; allowed: 0 < P < 1")
+            raise PoundingInputError(f"{w}.target_probability = {p}; allowed: 0 < P < 1")
         object.__setattr__(self, "target_probability", p)
         if self.gaps is not None:
             gaps = np.asarray(self.gaps, float).ravel()
             if gaps.size == 0 or np.any(~np.isfinite(gaps)) or np.any(gaps < 0):
-                raise ValueError(f"{w}.gaps = {self.gaps!r}; allowed: numbers >= 0 [m]")
+                raise PoundingInputError(f"{w}.gaps = {self.gaps!r}; allowed: numbers >= 0 [m]")
             object.__setattr__(self, "gaps", tuple(np.unique(gaps).tolist()))
 
     @classmethod
@@ -848,7 +849,7 @@ class SeparationOptions:
         allowed = [f.name for f in dataclasses.fields(cls)]
         unknown = sorted(set(options) - set(allowed))
         if unknown:
-            raise ValueError(
+            raise PoundingInputError(
                 f"unknown separation option(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}"
             )
         return cls(**dict(options))
@@ -1115,7 +1116,7 @@ def separation_analysis(
     system, opts = _system_and_options(case, analysis)
     pairs = facing_pairs(system)
     if not pairs:
-        raise ValueError(
+        raise PoundingInputError(
             "the case has no facing points: give at least two buildings with a floor at a common "
             "elevation, or contacts with explicit floors or walls"
         )

@@ -32,6 +32,7 @@ import numpy as np
 import xarray as xr
 
 from pounding._version import __version__
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.integrators.base import RawResult
 from pounding.integrators.ivp import IVP_METHODS, integrate_ivp
@@ -107,24 +108,26 @@ class AnalysisOptions:
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
-            raise ValueError(f"analysis.method = {self.method!r}; allowed: {', '.join(METHODS)}")
+            raise PoundingInputError(
+                f"analysis.method = {self.method!r}; allowed: {', '.join(METHODS)}"
+            )
         if self.ivp_method not in IVP_METHODS:
-            raise ValueError(
+            raise PoundingInputError(
                 f"analysis.ivp_method = {self.ivp_method!r}; allowed: {', '.join(IVP_METHODS)}"
             )
         for name in ("dt", "output_dt", "duration", "atol"):
             value = getattr(self, name)
             if value is not None and not (math.isfinite(value) and value > 0):
-                raise ValueError(f"analysis.{name} = {value}; allowed: a positive number")
+                raise PoundingInputError(f"analysis.{name} = {value}; allowed: a positive number")
         for name in ("rtol", "tol"):
             value = getattr(self, name)
             if not (math.isfinite(value) and 0 < value < 1):
-                raise ValueError(f"analysis.{name} = {value}; allowed: 0 < {name} < 1")
+                raise PoundingInputError(f"analysis.{name} = {value}; allowed: 0 < {name} < 1")
         for name in ("max_iter", "steps_per_contact", "steps_per_period"):
             if int(getattr(self, name)) < 1:
-                raise ValueError(f"analysis.{name} = {getattr(self, name)}; allowed: >= 1")
+                raise PoundingInputError(f"analysis.{name} = {getattr(self, name)}; allowed: >= 1")
         if int(self.max_halvings) < 0:
-            raise ValueError(f"analysis.max_halvings = {self.max_halvings}; allowed: >= 0")
+            raise PoundingInputError(f"analysis.max_halvings = {self.max_halvings}; allowed: >= 0")
         if self.method == "hht":
             get_scheme("hht", alpha=self.alpha)
 
@@ -134,7 +137,7 @@ class AnalysisOptions:
         allowed = [f.name for f in dataclasses.fields(cls)]
         unknown = sorted(set(options) - set(allowed))
         if unknown:
-            raise ValueError(
+            raise PoundingInputError(
                 f"unknown analysis option(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}"
             )
         return cls(**options)
@@ -162,7 +165,9 @@ def _resolve(case_or_system: Any, ground: GroundMotion | None, options: dict[str
     """(system, ground, options, title) from a case object or from a system and a ground motion."""
     if isinstance(case_or_system, PoundingSystem):
         if ground is None:
-            raise ValueError("simulate(system, ground): a GroundMotion is required with a system")
+            raise PoundingInputError(
+                "simulate(system, ground): a GroundMotion is required with a system"
+            )
         return case_or_system, ground, AnalysisOptions.from_mapping(options), ""
     for attr in ("system", "ground_motion", "analysis"):
         if not hasattr(case_or_system, attr):

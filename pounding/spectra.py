@@ -40,6 +40,7 @@ import numpy as np
 import xarray as xr
 
 from pounding import __version__
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import (
     MIN_SUBSTEPS,
     GroundMotion,
@@ -117,7 +118,9 @@ def spectral_peaks(
     periods = np.ascontiguousarray(_check_periods(periods))
     damping = _check_damping(damping)
     if not (isinstance(steps_per_period, (int, np.integer)) and steps_per_period >= 1):
-        raise ValueError(f"steps_per_period must be a positive integer, got {steps_per_period!r}")
+        raise PoundingInputError(
+            f"steps_per_period must be a positive integer, got {steps_per_period!r}"
+        )
     out = np.empty((periods.size, 3))
     _spectral_peaks(
         acc, float(dt), periods, damping, int(steps_per_period), bool(free_vibration), out
@@ -247,12 +250,14 @@ def modal_extremes(
     damping = np.ascontiguousarray(damping, dtype=float)
     rows = np.ascontiguousarray(np.atleast_2d(rows), dtype=float)
     if omega.shape != damping.shape or rows.shape[1] != omega.size:
-        raise ValueError(
+        raise PoundingInputError(
             f"modal_extremes: {omega.size} frequencies, {damping.size} damping ratios and "
             f"{rows.shape[1]} row coefficients per row must agree"
         )
     if not (np.all(omega > 0) and np.all((damping >= 0) & (damping < 1))):
-        raise ValueError("modal_extremes: need omega > 0 and 0 <= damping < 1 for every mode")
+        raise PoundingInputError(
+            "modal_extremes: need omega > 0 and 0 <= damping < 1 for every mode"
+        )
     period = 2.0 * math.pi / float(omega.max())
     m = max(MIN_SUBSTEPS, int(math.ceil(steps_per_period * dt / period - 1e-9)))
     h = dt / m
@@ -373,7 +378,7 @@ def response_spectra(
     """Response spectra of several records, concatenated along a ``record`` dimension."""
     gms = list(gms)
     if not gms:
-        raise ValueError("response_spectra: no records given")
+        raise PoundingInputError("response_spectra: no records given")
     names: list[str] = []
     for gm in gms:
         name = gm.name
@@ -412,14 +417,14 @@ def _design_array(periods: Any, values: np.ndarray, name: str, **attrs: Any) -> 
 def _design_periods(periods: Any) -> np.ndarray:
     p = np.atleast_1d(np.asarray(DEFAULT_PERIODS if periods is None else periods, dtype=float))
     if p.ndim != 1 or not np.all(np.isfinite(p)) or np.any(p < 0):
-        raise ValueError(f"periods must be a 1-D array of values >= 0 [s], got {p}")
+        raise PoundingInputError(f"periods must be a 1-D array of values >= 0 [s], got {p}")
     return p
 
 
 def _positive_g(value: float, field: str, what: str) -> float:
     value = float(value)
     if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{what}: {field} must be a positive number, got {value}")
+        raise PoundingInputError(f"{what}: {field} must be a positive number, got {value}")
     return value
 
 
@@ -527,10 +532,14 @@ def eurocode8_spectrum(
     try:
         table = EC8_GROUND_TYPES[int(spectrum_type)]
     except (KeyError, ValueError, TypeError):
-        raise ValueError(f"{what}: spectrum_type must be 1 or 2, got {spectrum_type!r}") from None
+        raise PoundingInputError(
+            f"{what}: spectrum_type must be 1 or 2, got {spectrum_type!r}"
+        ) from None
     key = str(ground_type).strip().upper()
     if key not in table:
-        raise ValueError(f"{what}: ground_type must be one of A, B, C, D, E, got {ground_type!r}")
+        raise PoundingInputError(
+            f"{what}: ground_type must be one of A, B, C, D, E, got {ground_type!r}"
+        )
     s, tb, tc, td = table[key]
     damping = _check_damping(damping)
     eta = max(math.sqrt(10.0 / (5.0 + 100.0 * damping)), 0.55)  # Eq. 3.6
@@ -569,5 +578,5 @@ def design_spectrum(code: str, periods: Any = None, **params: Any) -> xr.DataArr
         func = DESIGN_SPECTRA[code]
     except KeyError:
         allowed = ", ".join(DESIGN_SPECTRA)
-        raise ValueError(f"unknown design spectrum {code!r}; allowed: {allowed}") from None
+        raise PoundingInputError(f"unknown design spectrum {code!r}; allowed: {allowed}") from None
     return func(periods, **params)
