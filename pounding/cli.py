@@ -168,7 +168,13 @@ def laws_restitution(
     calibration: str = typer.Option("nominal", help="nominal | exact."),
     as_json: bool = typer.Option(False, "--json", help="Emit JSON instead of text."),
 ) -> None:
-    """Simulate one free impact against a rigid wall: effective e, max penetration, peak force, duration."""
+    """Simulate one free impact against a rigid wall: effective e, max penetration, peak force, durations.
+
+    The contact duration is the time the force acts; the overlap duration, the time the penetration is
+    positive, is longer for laws whose clamped force ends first (kelvin, hertz_kelvin). JSON keys:
+    e_effective, max_penetration, peak_force, contact_duration (= force_duration), force_duration,
+    overlap_duration.
+    """
     import json
 
     from pounding.contact.calibrate import effective_restitution
@@ -185,7 +191,8 @@ def laws_restitution(
     typer.echo(f"  effective restitution  {r.e_effective:.4f}")
     typer.echo(f"  max penetration        {r.max_penetration:.4g} m")
     typer.echo(f"  peak force             {r.peak_force:.4g} N")
-    typer.echo(f"  contact duration       {r.contact_duration:.4g} s")
+    typer.echo(f"  contact duration       {r.force_duration:.4g} s   (force acts, F > 0)")
+    typer.echo(f"  overlap duration       {r.overlap_duration:.4g} s   (penetration > 0)")
 
 
 # --- separation verb ---
