@@ -510,16 +510,37 @@ def _resolve_all(refs: list[str]) -> list[Any]:
 def records_list(
     suite: str = typer.Argument(None, help="Suite to list (omit to list the suites)."),
 ) -> None:
-    """List the record suites, or the record references in SUITE."""
-    from pounding.records import list_records, suite_descriptions
+    """List the record suites, or the records in SUITE as a table (reference first, then metadata).
+
+    The first column is the record reference, the first line the header (with units): scripts can
+    take the references with ``tail -n +2 | cut -d' ' -f1``.
+    """
+    from pounding.records import record_table, suite_descriptions
 
     if suite is None:
         typer.echo("record suites (pounding records list SUITE):")
         for name, text in suite_descriptions().items():
             typer.echo(f"  {name:28s} {text}")
         return
-    for ref in list_records(suite):
-        typer.echo(ref)
+    header, rows = record_table(suite)
+
+    def cell(value: Any, column: str) -> str:
+        if isinstance(value, float):
+            return f"{value:.3f}" if column == "PGA [g]" else f"{value:g}"
+        return str(value)
+
+    text = [[cell(v, c) for v, c in zip(row, header, strict=True)] for row in rows]
+    numeric = [bool(rows) and isinstance(rows[0][i], (int, float)) for i in range(len(header))]
+    widths = [max(len(h), *(len(r[i]) for r in text)) for i, h in enumerate(header)]
+
+    def line(cells: list[str]) -> str:
+        pairs = zip(cells, widths, numeric, strict=True)
+        out = [c.rjust(w) if num else c.ljust(w) for c, w, num in pairs]
+        return "  ".join(out).rstrip()
+
+    typer.echo(line(header))
+    for row in text:
+        typer.echo(line(row))
 
 
 @records_app.command("show")

