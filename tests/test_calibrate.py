@@ -1,7 +1,7 @@
 """Tests for pounding.contact.calibrate: parameter validation, single-impact effective restitution
 against closed forms and independent integrations, and exact calibration for every damped law.
 
-References: /work/shared/reference/contact_and_friction.md §2-§3; Goldsmith (1960) Impact (Hertz
+References: Goldsmith (1960) Impact (Hertz
 impact); Anagnostopoulos (1988) EESD 16(3); Hunt & Crossley (1975) J. Appl. Mech. 42(2);
 Jankowski (2006) EESD 35(4) 517-524; Muthukumar & DesRoches (2006) EESD 35(7).
 """
@@ -259,7 +259,7 @@ def test_impact_result_keys_for_the_cli():
 
 @pytest.mark.parametrize(("e", "gap"), [(0.3, 0.05), (0.6, 0.02), (0.9, 1e-3)])
 def test_kelvin_clamped_rebounds_more_than_nominal_e(e, gap):
-    # Lecture Fig. 9: with ξ of Anagnostopoulos the unclamped force turns tensile near the end of
+    # Anagnostopoulos 1988, Gilardi & Sharf 2002: with ξ of Anagnostopoulos the unclamped force turns tensile near the end of
     # restitution; clamping it removes that pull, so the clamped law's effective e exceeds e.
     k, mass, v0 = 2.75e9 / 10, 3.0e5, 0.5  # linear impact spring [N/m]
     res = effective_restitution("kelvin", k=k, e=e, mass=mass, v0=v0)
