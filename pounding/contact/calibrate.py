@@ -35,10 +35,9 @@ class ImpactResult:
     """Outcome of one free impact against a rigid wall.
 
     Two durations differ for laws whose clamped force ends while the bodies still overlap (``kelvin``,
-    ``hertz_kelvin``, the Hunt-Crossley family at low e): once k δ + c δ̇ would turn tensile the force is
-    zero, the mass flies free at constant speed, and the overlap δ > 0 closes a little later. The
-    contact duration is the time the force acts; the impact log of a simulation (``impact_start`` to
-    ``impact_end``) spans the overlap.
+    ``hertz_kelvin``): once k δ + c δ̇ would turn tensile the force is zero, the mass flies free at
+    constant speed, and the overlap δ > 0 closes a little later. The contact duration is the time the
+    force acts; the impact log of a simulation (``impact_start`` to ``impact_end``) spans the overlap.
 
     Attributes
     ----------
