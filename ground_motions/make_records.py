@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from pounding import records, spectra, synthetic
-from pounding.ground_motion import GroundMotion, bandpass, baseline_correct, scale_to_pga
+from pounding.ground_motion import GroundMotion
 from pounding.units import G
 
 HERE = Path(__file__).resolve().parent
@@ -19,10 +19,9 @@ HERE = Path(__file__).resolve().parent
 
 def processed(gm: GroundMotion) -> GroundMotion:
     """Standard processing of a record (Boore & Bommer 2005): 0.1-25 Hz zero-phase band-pass, cubic
-    baseline correction, rescaled to the original PGA. Filtered white noise keeps power near ω = 0,
-    which would otherwise give unphysical ground velocity and displacement drifts."""
-    pga = gm.pga
-    return scale_to_pga(baseline_correct(bandpass(gm, low=0.1, high=25.0), order=3), pga=pga)
+    baseline correction, rescaled to the original PGA (:func:`pounding.synthetic.standard_processing`,
+    also what ``synthetic:`` record references get unless ``raw=true``)."""
+    return synthetic.standard_processing(gm)
 
 
 def make() -> dict[str, object]:

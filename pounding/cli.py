@@ -216,7 +216,13 @@ def laws_restitution(
     calibration: str = typer.Option("nominal", help="nominal | exact."),
     as_json: bool = typer.Option(False, "--json", help="Emit JSON instead of text."),
 ) -> None:
-    """Simulate one free impact against a rigid wall: effective e, max penetration, peak force, duration."""
+    """Simulate one free impact against a rigid wall: effective e, max penetration, peak force, durations.
+
+    The contact duration is the time the force acts; the overlap duration, the time the penetration is
+    positive, is longer for laws whose clamped force ends first (kelvin, hertz_kelvin). JSON keys:
+    e_effective, max_penetration, peak_force, contact_duration (= force_duration), force_duration,
+    overlap_duration.
+    """
     import json
 
     from pounding.contact.calibrate import effective_restitution
@@ -233,7 +239,8 @@ def laws_restitution(
     typer.echo(f"  effective restitution  {r.e_effective:.4f}")
     typer.echo(f"  max penetration        {r.max_penetration:.4g} m")
     typer.echo(f"  peak force             {r.peak_force:.4g} N")
-    typer.echo(f"  contact duration       {r.contact_duration:.4g} s")
+    typer.echo(f"  contact duration       {r.force_duration:.4g} s   (force acts, F > 0)")
+    typer.echo(f"  overlap duration       {r.overlap_duration:.4g} s   (penetration > 0)")
 
 
 # --- separation verb ---
@@ -559,16 +566,37 @@ def _resolve_all(refs: list[str]) -> list[Any]:
 def records_list(
     suite: str = typer.Argument(None, help="Suite to list (omit to list the suites)."),
 ) -> None:
-    """List the record suites, or the record references in SUITE."""
-    from pounding.records import list_records, suite_descriptions
+    """List the record suites, or the records in SUITE as a table (reference first, then metadata).
+
+    The first column is the record reference, the first line the header (with units): scripts can
+    take the references with ``tail -n +2 | cut -d' ' -f1``.
+    """
+    from pounding.records import record_table, suite_descriptions
 
     if suite is None:
         typer.echo("record suites (pounding records list SUITE):")
         for name, text in suite_descriptions().items():
             typer.echo(f"  {name:28s} {text}")
         return
-    for ref in list_records(suite):
-        typer.echo(ref)
+    header, rows = record_table(suite)
+
+    def cell(value: Any, column: str) -> str:
+        if isinstance(value, float):
+            return f"{value:.3f}" if column == "PGA [g]" else f"{value:g}"
+        return str(value)
+
+    text = [[cell(v, c) for v, c in zip(row, header, strict=True)] for row in rows]
+    numeric = [bool(rows) and isinstance(rows[0][i], (int, float)) for i in range(len(header))]
+    widths = [max(len(h), *(len(r[i]) for r in text)) for i, h in enumerate(header)]
+
+    def line(cells: list[str]) -> str:
+        pairs = zip(cells, widths, numeric, strict=True)
+        out = [c.rjust(w) if num else c.ljust(w) for c, w, num in pairs]
+        return "  ".join(out).rstrip()
+
+    typer.echo(line(header))
+    for row in text:
+        typer.echo(line(row))
 
 
 @records_app.command("show")

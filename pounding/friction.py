@@ -18,8 +18,8 @@ call the same kernels. True Coulomb stick-slip uses :func:`coulomb_stick_slip_ke
 Constantinou model uses :func:`constantinou_bouc_wen_kernel` with the Bouc-Wen variable z, whose rate
 is :func:`bouc_wen_rate`.
 
-Lecture equation numbers refer to the course notes restated in
-``shared/reference/contact_and_friction.md`` §1.
+The static and dynamic Coulomb laws, viscous friction and its normal-force-proportional variant
+are the classical forms reviewed by Olsson et al. [7]; the regularised laws cite their papers.
 
 References
 ----------
@@ -37,6 +37,8 @@ References
    ``StribeckModel::ComputeFrictionCoefficient``. https://drake.mit.edu
 .. [6] Karnopp, D. (1985). Computer simulation of stick-slip friction in mechanical dynamic systems.
    J. Dyn. Syst. Meas. Control 107(1), 100-103. doi:10.1115/1.3140698
+.. [7] Olsson, H., Åström, K.J., Canudas de Wit, C., Gäfvert, M., Lischinsky, P. (1998). Friction
+   models and friction compensation. Eur. J. Control 4(3), 176-195.
 """
 
 from __future__ import annotations
@@ -87,7 +89,7 @@ __all__ = [
 
 
 def coulomb_kernel(v, normal, p):
-    r"""Regularised dynamic Coulomb, lecture Eq. 2: :math:`f = \mu_d N \tanh(v / v_{reg})`.
+    r"""Regularised dynamic Coulomb [7]: :math:`f = \mu_d N \tanh(v / v_{reg})`.
 
     p = [mu_s, mu_d, v_reg]; mu_s is used by :func:`coulomb_stick_slip_kernel` only.
     """
@@ -98,7 +100,7 @@ def coulomb_kernel(v, normal, p):
 
 
 def coulomb_stick_slip_kernel(force_to_stick, normal, p):
-    """Exact Coulomb stick test, lecture Eqs. 1-2 [6]: ``(stuck, f)`` at v = 0.
+    """Exact Coulomb stick test [6], [7]: ``(stuck, f)`` at v = 0.
 
     ``force_to_stick`` is the friction force [N] that keeps the slip acceleration zero (p in
     m v̇ = p − f). Stuck while |force_to_stick| <= mu_s N, friction then equals it; otherwise slip
@@ -112,12 +114,12 @@ def coulomb_stick_slip_kernel(force_to_stick, normal, p):
 
 
 def viscous_kernel(v, normal, p):
-    r"""Viscous friction, lecture Eq. 3: :math:`f = \mu_v v`; p = [mu_v]."""
+    r"""Viscous friction [7]: :math:`f = \mu_v v`; p = [mu_v]."""
     return p[0] * v, p[0]
 
 
 def viscous_normal_kernel(v, normal, p):
-    r"""Viscous friction proportional to N, lecture Eq. 4: :math:`f = k_v N v`; p = [k_v]."""
+    r"""Viscous friction proportional to N: :math:`f = k_v N v`; p = [k_v]."""
     n = normal if normal > 0.0 else 0.0
     return p[0] * n * v, p[0] * n
 
@@ -147,7 +149,7 @@ def stribeck_kernel(v, normal, p):
 
 
 def andersson_kernel(v, normal, p):
-    r"""Andersson-Söderberg-Björklund, lecture Eq. 5 [1]; p = [mu_s, mu_d, v_s, exponent, k_t, mu_v].
+    r"""Andersson-Söderberg-Björklund [1]; p = [mu_s, mu_d, v_s, exponent, k_t, mu_v].
 
     :math:`f = N[\mu_d + (\mu_s - \mu_d) e^{-(|v|/v_s)^{p}}] \tanh(k_t v) + \mu_v v`.
     """
@@ -165,7 +167,7 @@ def andersson_kernel(v, normal, p):
 
 
 def brown_mcphee_kernel(v, normal, p):
-    r"""Brown-McPhee, lecture Eq. 6 [2]; p = [mu_s, mu_d, v_t, mu_v, f_nt].
+    r"""Brown-McPhee [2]; p = [mu_s, mu_d, v_t, mu_v, f_nt].
 
     :math:`f = \mu_d N \tanh(4 v_r) + (\mu_s - \mu_d) N \frac{16 v_r}{(v_r^2 + 3)^2}
     + \mu_v v \tanh(4 N / f_{nt})`, :math:`v_r = v / v_t`.
@@ -273,7 +275,7 @@ class FrictionLaw:
     parameters : tuple of Parameter
         The layout of ``p``, in order, with units, defaults and typical ranges.
     equation : str
-        Equation label (lecture or paper number).
+        Equation label (the paper or the classical law it comes from).
     reference : str
         Short literature reference.
     formula : str
@@ -414,10 +416,10 @@ def coulomb(v, *, normal, mu_s: float, mu_d: float, v_reg: float = 1.0e-3):
 
     .. math:: f = \mu_d N \tanh(v / v_{reg})
 
-    Lecture Eq. 2 (dynamic Coulomb, :math:`f = \mu_d N\,\mathrm{sign}(v)`) with the sign function
+    Dynamic Coulomb friction (:math:`f = \mu_d N\,\mathrm{sign}(v)`) with the sign function
     smoothed over the regularisation speed :math:`v_{reg}`: f reaches 76 % of μ_d N at v = v_reg and
     99.5 % at 3 v_reg; below v_reg the law acts as a viscous damper of coefficient μ_d N / v_reg, so a
-    smaller v_reg is closer to Coulomb but stiffer. The static coefficient (lecture Eq. 1) enters the
+    smaller v_reg is closer to Coulomb but stiffer. The static coefficient μ_s enters the
     exact stick test, :func:`coulomb_stick_slip`.
 
     Parameters
@@ -441,13 +443,14 @@ def coulomb(v, *, normal, mu_s: float, mu_d: float, v_reg: float = 1.0e-3):
 
     References
     ----------
-    Lecture Eqs. 1-2; Karnopp, D. (1985). J. Dyn. Syst. Meas. Control 107(1), 100-103.
+    Olsson et al. (1998) Eur. J. Control 4(3), 176-195 (Coulomb friction, static and dynamic);
+    Karnopp, D. (1985). J. Dyn. Syst. Meas. Control 107(1), 100-103.
     """
     return _evaluate("coulomb", v, normal, dict(mu_s=mu_s, mu_d=mu_d, v_reg=v_reg))
 
 
 def coulomb_stick_force_limit(mu_s, normal):
-    r"""Largest friction force a stuck contact can carry, :math:`f_s = \mu_s N` [N] (lecture Eq. 1).
+    r"""Largest friction force a stuck contact can carry, :math:`f_s = \mu_s N` [N] (static Coulomb friction [7]).
 
     Parameters
     ----------
@@ -463,7 +466,7 @@ def coulomb_stick_force_limit(mu_s, normal):
 
 
 def coulomb_stick_slip(force_to_stick, *, normal, mu_s: float, mu_d: float):
-    r"""Decide stick or slip at v = 0 and give the friction force (exact Coulomb, lecture Eqs. 1-2).
+    r"""Decide stick or slip at v = 0 and give the friction force (exact Coulomb, Karnopp [6]).
 
     .. math::
         |p| \le \mu_s N:\ \text{stick},\ f = p; \qquad
@@ -502,7 +505,7 @@ def coulomb_stick_slip(force_to_stick, *, normal, mu_s: float, mu_d: float):
 
 
 def viscous(v, *, mu_v: float):
-    r"""Viscous friction, lecture Eq. 3.
+    r"""Viscous friction [7].
 
     .. math:: f = \mu_v v
 
@@ -522,7 +525,7 @@ def viscous(v, *, mu_v: float):
 
 
 def viscous_normal(v, *, normal, k_v: float):
-    r"""Viscous friction proportional to the normal force, lecture Eq. 4.
+    r"""Viscous friction proportional to the normal force (the viscous term of [7] scaled by N).
 
     .. math:: f = k_v N v
 
@@ -555,7 +558,7 @@ def stribeck(v, *, normal, mu_s: float, mu_d: float, v_s: float = 1.0e-3):
 
     C² continuous; f = μ_s N exactly at |v| = v_s and μ_d N from 3 v_s on. This is Drake's
     MultibodyPlant Stribeck model [5]; the classical exponential (Bo-Pavelescu) Stribeck curve with a
-    tanh regularisation is :func:`andersson` (lecture Eq. 5).
+    tanh regularisation is :func:`andersson` [1].
 
     Parameters
     ----------
@@ -587,7 +590,7 @@ def andersson(
     k_t: float = 1.0e4,
     mu_v: float = 0.0,
 ):
-    r"""Andersson-Söderberg-Björklund regularised Stribeck friction, lecture Eq. 5 [1].
+    r"""Andersson-Söderberg-Björklund regularised Stribeck friction [1].
 
     .. math::
         f = N\left[\mu_d + (\mu_s - \mu_d)\, e^{-(|v|/v_s)^{p}}\right] \tanh(k_t v) + \mu_v v
@@ -632,7 +635,7 @@ def brown_mcphee(
     mu_v: float = 0.0,
     f_nt: float = 1.0,
 ):
-    r"""Brown-McPhee continuous velocity-based friction, lecture Eq. 6 [2].
+    r"""Brown-McPhee continuous velocity-based friction [2].
 
     .. math::
         f = \mu_d N \tanh(4 v_r) + (\mu_s - \mu_d) N \frac{16\, v_r}{(v_r^2 + 3)^2}
@@ -728,18 +731,18 @@ _LAWS = (
         "coulomb", 0, coulomb_kernel, coulomb,
         (_MU_S, _MU_D, Parameter("v_reg", "m/s", "regularisation speed", 1.0e-3, strict=True,
                                  typical="1e-4 to 1e-2")),
-        "lecture Eqs. 1-2", "Coulomb; Karnopp 1985, J. Dyn. Syst. Meas. Control 107(1) 100-103",
+        "static and dynamic Coulomb", "Coulomb; Karnopp 1985, J. Dyn. Syst. Meas. Control 107(1) 100-103",
         "f = μ_d N tanh(v/v_reg); stuck while |f| <= μ_s N", (("mu_d", "mu_s"),),
     ),
     FrictionLaw(
         "viscous", 1, viscous_kernel, viscous,
         (dataclasses.replace(_MU_V, default=None),),
-        "lecture Eq. 3", "lecture notes", "f = μ_v v",
+        "viscous", "Olsson et al. 1998, Eur. J. Control 4(3) 176-195", "f = μ_v v",
     ),
     FrictionLaw(
         "viscous_normal", 2, viscous_normal_kernel, viscous_normal,
         (Parameter("k_v", "s/m", "viscous coefficient per unit normal force", typical="0.01-0.1"),),
-        "lecture Eq. 4", "lecture notes", "f = k_v N v",
+        "viscous scaled by N", "viscous term of Olsson et al. 1998 scaled by N", "f = k_v N v",
     ),
     FrictionLaw(
         "stribeck", 3, stribeck_kernel, stribeck,
@@ -755,7 +758,7 @@ _LAWS = (
          Parameter("exponent", "-", "Stribeck decay exponent", 2.0, strict=True, typical="0.5-2"),
          Parameter("k_t", "s/m", "tanh slope", 1.0e4, strict=True, typical="1e4"),
          _MU_V),
-        "lecture Eq. 5",
+        "Andersson et al. 2007",
         "Andersson, Söderberg & Björklund 2007, Tribol. Int. 40(4) 580-587",
         "f = N[μ_d + (μ_s − μ_d) exp(−(|v|/v_s)^p)] tanh(k_t v) + μ_v v", (("mu_d", "mu_s"),),
     ),
@@ -766,7 +769,7 @@ _LAWS = (
          _MU_V,
          Parameter("f_nt", "N", "normal force scale of the viscous term", 1.0, strict=True,
                    typical="small against N")),
-        "lecture Eq. 6", "Brown & McPhee 2016, ASME J. Comput. Nonlinear Dyn. 11(5) 054502",
+        "Brown & McPhee 2016", "Brown & McPhee 2016, ASME J. Comput. Nonlinear Dyn. 11(5) 054502",
         "f = μ_d N tanh(4v_r) + (μ_s − μ_d) N 16v_r/(v_r² + 3)² + μ_v v tanh(4N/f_nt), v_r = v/v_t",
         (("mu_d", "mu_s"),),
     ),

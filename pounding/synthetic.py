@@ -25,7 +25,10 @@ from pounding.ground_motion import (
     GroundMotion,
     _check_damping,
     _check_periods,
+    bandpass,
+    baseline_correct,
     pseudo_spectral_acceleration,
+    scale_to_pga,
 )
 
 # ---------------------------------------------------------------------------------------------
@@ -361,6 +364,7 @@ def spectrum_compatible(
     max_iterations: int = 30,
     n_control: int = 60,
     name: str | None = None,
+    process: Callable[[GroundMotion], GroundMotion] | None = None,
 ) -> GroundMotion:
     """A record whose pseudo-spectral acceleration matches a target spectrum.
 
@@ -393,6 +397,10 @@ def spectrum_compatible(
     max_iterations : int
     n_control : int
         Number of control periods.
+    process : callable, optional
+        Processing applied to the candidate at every iteration, before its spectrum is computed
+        (e.g. ``lambda gm: standard_processing(gm, rescale=False)``), so the returned record is
+        both processed and spectrum-compatible; its steps are kept in ``metadata["processing"]``.
 
     Returns
     -------
@@ -441,7 +449,11 @@ def spectrum_compatible(
     ends[n - m :] = ends[:m][::-1]
 
     best = (math.inf, acc, 0)
+    steps: list[str] = []
     for iteration in range(int(max_iterations) + 1):
+        if process is not None:
+            processed = process(GroundMotion(acc, dt))
+            acc, steps = processed.acceleration, processed.metadata.get("processing", [])
         achieved = pseudo_spectral_acceleration(GroundMotion(acc, dt), control, damping=damping)
         error = float(np.max(np.abs(achieved / target - 1.0)))
         if error < best[0]:
@@ -471,7 +483,40 @@ def spectrum_compatible(
         "control_periods": control.tolist(),
         "units_read": "m/s2",
     }
+    if steps:
+        meta["processing"] = list(steps)
     return GroundMotion(acc, dt, name=name or f"spectrum-compatible seed={seed}", metadata=meta)
+
+
+# ---------------------------------------------------------------------------------------------
+# Standard processing
+# ---------------------------------------------------------------------------------------------
+
+#: Band-pass corners [Hz] and baseline degree of :func:`standard_processing`.
+STANDARD_BAND = (0.1, 25.0)
+STANDARD_BASELINE_ORDER = 3
+
+
+def standard_processing(gm: GroundMotion, *, rescale: bool = True) -> GroundMotion:
+    """Process a synthetic record like a recorded one (and like the records shipped in the repository).
+
+    0.1-25 Hz zero-phase Butterworth band-pass, then a cubic baseline correction fitted on
+    displacement, then (``rescale``) the PGA scaled back to its value before processing (Boore and
+    Bommer 2005). Filtered white noise keeps power near ω = 0: unprocessed, its ground velocity and
+    displacement drift without bound (metres of displacement for a 0.3 g record). The low-pass corner
+    is left out when 25 Hz is not below 0.8 times the Nyquist frequency 1/(2 dt). Each step is
+    appended to ``metadata["processing"]``.
+
+    References
+    ----------
+    .. [1] Boore, D.M. and Bommer, J.J. (2005). Processing of strong-motion accelerograms: needs,
+       options and consequences. Soil Dyn. Earthq. Eng. 25, 93-115. doi:10.1016/j.soildyn.2004.10.007
+    """
+    low, high = STANDARD_BAND
+    if high >= 0.8 * 0.5 / gm.dt:
+        high = None
+    out = baseline_correct(bandpass(gm, low=low, high=high), order=STANDARD_BASELINE_ORDER)
+    return scale_to_pga(out, pga=gm.pga) if rescale else out
 
 
 #: Synthetic generators by name (used by the ``synthetic:`` record references).

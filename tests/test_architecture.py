@@ -1,4 +1,4 @@
-"""The layering of DESIGN.md, enforced by the import-linter contract in pyproject.toml."""
+"""The layering of docs/design.md, enforced by the import-linter contract in pyproject.toml."""
 
 from __future__ import annotations
 

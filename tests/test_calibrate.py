@@ -1,7 +1,7 @@
 """Tests for pounding.contact.calibrate: parameter validation, single-impact effective restitution
 against closed forms and independent integrations, and exact calibration for every damped law.
 
-References: /work/shared/reference/contact_and_friction.md §2-§3; Goldsmith (1960) Impact (Hertz
+References: Goldsmith (1960) Impact (Hertz
 impact); Anagnostopoulos (1988) EESD 16(3); Hunt & Crossley (1975) J. Appl. Mech. 42(2);
 Jankowski (2006) EESD 35(4) 517-524; Muthukumar & DesRoches (2006) EESD 35(7).
 """
@@ -246,7 +246,10 @@ def test_impact_result_keys_for_the_cli():
         "max_penetration",
         "peak_force",
         "contact_duration",
+        "force_duration",
+        "overlap_duration",
     }
+    assert res.as_dict()["contact_duration"] == res.force_duration
 
 
 # --------------------------------------------------------------------------------------------------
@@ -256,7 +259,7 @@ def test_impact_result_keys_for_the_cli():
 
 @pytest.mark.parametrize(("e", "gap"), [(0.3, 0.05), (0.6, 0.02), (0.9, 1e-3)])
 def test_kelvin_clamped_rebounds_more_than_nominal_e(e, gap):
-    # Lecture Fig. 9: with ξ of Anagnostopoulos the unclamped force turns tensile near the end of
+    # Anagnostopoulos 1988, Gilardi & Sharf 2002: with ξ of Anagnostopoulos the unclamped force turns tensile near the end of
     # restitution; clamping it removes that pull, so the clamped law's effective e exceeds e.
     k, mass, v0 = 2.75e9 / 10, 3.0e5, 0.5  # linear impact spring [N/m]
     res = effective_restitution("kelvin", k=k, e=e, mass=mass, v0=v0)
@@ -273,6 +276,52 @@ def test_kelvin_clamped_rebounds_more_than_nominal_e(e, gap):
     # with calibration="exact" the clamped law returns e
     exact = effective_restitution("kelvin", k=k, e=e, mass=mass, v0=v0, calibration="exact")
     assert exact.e_effective == pytest.approx(e, rel=5e-3)
+
+
+def kelvin_free_impact_closed_form(k, c, mass, v0):
+    """Clamped Kelvin-Voigt impact of a mass on a rigid wall, underdamped (ξ < 1/√2).
+
+    Until the force ends δ(t) = (v0/ω_d) exp(−ξωt) sin ω_d t. The force m(ω²δ + 2ξωδ̇) is
+    proportional to exp(−ξωt)[(1 − 2ξ²)ω sin ω_d t + 2ξ ω_d cos ω_d t]/ω_d, zero at
+    ω_d t_f = π − atan(2ξ√(1 − ξ²)/(1 − 2ξ²)); then the mass flies free at δ̇(t_f) < 0 and
+    leaves the overlap at t_f + δ(t_f)/|δ̇(t_f)|. Without the clamp it would leave at π/ω_d.
+    Returns (t_f, t_overlap, e = −δ̇(t_f)/v0).
+    """
+    w = math.sqrt(k / mass)
+    xi = c / (2.0 * math.sqrt(k * mass))
+    wd = w * math.sqrt(1.0 - xi * xi)
+    t_f = (math.pi - math.atan(2 * xi * math.sqrt(1 - xi * xi) / (1 - 2 * xi * xi))) / wd
+    decay = math.exp(-xi * w * t_f)
+    d_f = v0 / wd * decay * math.sin(wd * t_f)
+    v_f = v0 * decay * (math.cos(wd * t_f) - xi * w / wd * math.sin(wd * t_f))
+    return t_f, t_f + d_f / -v_f, -v_f / v0
+
+
+@pytest.mark.parametrize(
+    ("e", "k", "mass", "v0"), [(0.65, 1.0e8, 1.0e5, 1.0), (0.3, 2.0e9, 3.0e5, 0.4)]
+)
+def test_kelvin_force_and_overlap_durations_against_closed_form(e, k, mass, v0):
+    # Issue 12 §6: the clamped Kelvin force ends before the overlap does; both durations and the
+    # restitution (speed when the force ends = speed at separation) follow the underdamped
+    # oscillator's closed form (Anagnostopoulos 1988) to 1e-6.
+    res = effective_restitution("kelvin", k=k, e=e, mass=mass, v0=v0)
+    c = 2 * xi_anagnostopoulos(e) * math.sqrt(k * mass)
+    t_f, t_overlap, e_eff = kelvin_free_impact_closed_form(k, c, mass, v0)
+    assert res.force_duration == pytest.approx(t_f, rel=1e-6)
+    assert res.contact_duration == res.force_duration
+    assert res.overlap_duration == pytest.approx(t_overlap, rel=1e-6)
+    assert res.e_effective == pytest.approx(e_eff, rel=1e-6)
+    # the overlap outlasts the force (by 9 % at e = 0.65) but ends before the unclamped π/ω_d
+    w_d = math.sqrt(k / mass) * math.sqrt(1 - xi_anagnostopoulos(e) ** 2)
+    assert t_f < 0.95 * t_overlap and t_overlap < math.pi / w_d
+
+
+@pytest.mark.parametrize("law", ["linear", "hertz", "jankowski", "kelvin_approach"])
+def test_force_and_overlap_end_together_when_never_clamped(law):
+    # Laws whose force stays positive while δ > 0 release at separation: both durations agree.
+    params = {} if law in ("linear", "hertz") else {"e": 0.6}
+    res = effective_restitution(law, k=1e8, mass=1e4, v0=1.0, **params)
+    assert res.force_duration == pytest.approx(res.overlap_duration, rel=1e-9)
 
 
 @pytest.mark.parametrize("e", [0.3, 0.65, 0.9])

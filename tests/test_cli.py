@@ -53,7 +53,7 @@ def test_laws_lists_every_law_and_alias():
 
 
 def test_laws_restitution_json_keys_match_hertz_closed_form():
-    # undamped Hertz: δ_max = (5 m v0²/(4k))^(2/5), t_c = 2.943275 δ_max/v0 (reference §3)
+    # undamped Hertz: δ_max = (5 m v0²/(4k))^(2/5), t_c = 2.943275 δ_max/v0 (Goldsmith 1960)
     m, k, v0 = 1.5e5, 2.75e9, 0.5
     res = runner.invoke(
         app,
@@ -73,11 +73,31 @@ def test_laws_restitution_json_keys_match_hertz_closed_form():
     )
     assert res.exit_code == 0, res.output
     out = json.loads(res.output)
-    assert set(out) == {"e_effective", "max_penetration", "peak_force", "contact_duration"}
+    assert set(out) == {
+        "e_effective",
+        "max_penetration",
+        "peak_force",
+        "contact_duration",
+        "force_duration",
+        "overlap_duration",
+    }
     d_max = (5 * m * v0**2 / (4 * k)) ** 0.4
     assert out["max_penetration"] == pytest.approx(d_max, rel=1e-4)
     assert out["contact_duration"] == pytest.approx(2.943275 * d_max / v0, rel=1e-3)
     assert out["e_effective"] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_laws_restitution_kelvin_reports_force_and_overlap_durations():
+    # Issue 12 §6: at e = 0.65 the clamped Kelvin force acts 0.0916 s, the overlap lasts 0.1002 s
+    # (closed forms in test_calibrate.test_kelvin_force_and_overlap_durations_against_closed_form).
+    args = ["laws", "restitution", "--law", "kelvin", "--k", "1e8", "--mass", "1e5", "--v0", "1"]
+    res = runner.invoke(app, [*args, "--e", "0.65"])
+    assert res.exit_code == 0, res.output
+    assert "contact duration       0.09158 s   (force acts, F > 0)" in res.output
+    assert "overlap duration       0.1002 s   (penetration > 0)" in res.output
+    out = json.loads(runner.invoke(app, [*args, "--e", "0.65", "--json"]).output)
+    assert out["contact_duration"] == out["force_duration"]
+    assert out["overlap_duration"] / out["force_duration"] == pytest.approx(1.094, abs=1e-3)
 
 
 def test_laws_restitution_missing_e_is_exit_2():

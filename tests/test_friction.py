@@ -1,6 +1,7 @@
 """Tests for pounding.friction against closed forms, independent integrations and law properties.
 
-Sources: lecture notes restated in shared/reference/contact_and_friction.md §1 (Eqs. 1-6);
+Sources: Coulomb and viscous friction as reviewed by Olsson et al. (1998) Eur. J. Control 4(3);
+Karnopp (1985) J. Dyn. Syst. Meas. Control 107(1);
 Brown & McPhee (2016) ASME JCND 11(5); Andersson et al. (2007) Tribol. Int. 40(4); Constantinou et
 al. (1990) J. Struct. Eng. 116(2); Wen (1976) J. Eng. Mech. Div. 102(2); Drake's Stribeck model.
 """
@@ -84,7 +85,7 @@ def test_brown_mcphee_stribeck_term_peaks_at_exactly_v_t(v_t):
     k_t_v_s=st.floats(1.0, 100.0),
 )
 def test_andersson_peak_below_mu_s_N_and_tends_to_mu_d_N(mu_d, ratio, v_s, exponent, k_t_v_s):
-    # Lecture Eq. 5 (Andersson et al. 2007): h(v) <= μ_s and tanh < 1 keep the peak below μ_s N; at
+    # Andersson et al. 2007: h(v) <= μ_s and tanh < 1 keep the peak below μ_s N; at
     # high speed exp(−(|v|/v_s)^p) -> 0 and tanh -> 1, so f -> μ_d N (μ_v = 0 here).
     mu_s = mu_d * ratio
     p = friction_parameters(
@@ -99,7 +100,7 @@ def test_andersson_peak_below_mu_s_N_and_tends_to_mu_d_N(mu_d, ratio, v_s, expon
 
 
 def test_andersson_typical_parameters_peak_a_little_below_mu_s_N():
-    # Reference §1.5: with v_s = 1e-3 m/s, p = 2, k_t = 1e4 s/m the Stribeck bump survives: the peak
+    # Andersson et al. 2007's typical values: with v_s = 1e-3 m/s, p = 2, k_t = 1e4 s/m the Stribeck bump survives: the peak
     # exceeds μ_d N clearly but stays below μ_s N.
     v = np.logspace(-6, 0, 4000)
     f = fr.andersson(v, normal=1.0, mu_s=0.15, mu_d=0.1)
@@ -116,7 +117,7 @@ def test_drake_stribeck_closed_form_values():
 
 
 def test_coulomb_regularised_tends_to_mu_d_N_sign_v():
-    # Lecture Eq. 2: f = μ_d N sign(v) once |v| >> v_reg; tanh(1) of it at v = v_reg.
+    # Dynamic Coulomb (Olsson et al. 1998): f = μ_d N sign(v) once |v| >> v_reg; tanh(1) of it at v = v_reg.
     kw = dict(normal=1000.0, mu_s=0.5, mu_d=0.4, v_reg=1e-3)
     np.testing.assert_allclose(
         fr.coulomb([-1.0, 0.05, 1e-3], **kw), [-400, 400, 400 * math.tanh(1)]
@@ -124,7 +125,7 @@ def test_coulomb_regularised_tends_to_mu_d_N_sign_v():
 
 
 def test_viscous_laws_closed_forms():
-    # Lecture Eqs. 3 and 4.
+    # Viscous friction f = μ_v v and f = k_v N v (Olsson et al. 1998).
     v = np.array([-0.3, 0.0, 0.7])
     np.testing.assert_allclose(fr.viscous(v, mu_v=2.0e4), 2.0e4 * v, rtol=1e-15)
     np.testing.assert_allclose(fr.viscous_normal(v, normal=3.0e6, k_v=0.05), 1.5e5 * v, rtol=1e-15)

@@ -121,7 +121,7 @@ def den_hartog_block(t, *, amplitude, period, mu_s, mu_d):
 
 @pytest.mark.parametrize("method", ["newmark", "ivp"])
 def test_rigid_block_below_mu_s_g_never_slides(method):
-    # Lecture Eq. 1: stuck while |m a_g| <= μ_s m g. At A = 0.95 μ_s g the slab never moves, the
+    # Static Coulomb friction (Karnopp 1985): stuck while |m a_g| <= μ_s m g. At A = 0.95 μ_s g the slab never moves, the
     # friction is the full inertia force −m_total a_g, and nothing is dissipated.
     system = assemble([_coulomb_block(MU_S, MU_D)])
     gm = harmonic(amplitude=0.95 * MU_S * G, period=PERIOD, duration=2.0, dt=0.005)
@@ -200,7 +200,7 @@ def test_den_hartog_rigid_block_exact_transitions_ivp():
 
 
 def test_break_away_jumps_with_static_above_dynamic_coefficient():
-    # Lecture Eqs. 1-2 with μ_s > μ_d: at break-away the acceleration jumps from 0 to (μ_s − μ_d) g
+    # Static and dynamic Coulomb friction with μ_s > μ_d: at break-away the acceleration jumps from 0 to (μ_s − μ_d) g
     # (the held force μ_s N now meets only μ_d N); with μ_s = μ_d it starts from 0. Checked through
     # the velocity 1 ms after break-away, ≈ (μ_s − μ_d) g · 1 ms.
     gm = harmonic(amplitude=AMPLITUDE, period=PERIOD, duration=0.3, dt=2e-4)

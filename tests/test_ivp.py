@@ -131,7 +131,7 @@ def test_chopra_eq_3_2_harmonic_ground_acceleration_from_rest():
 
 
 def test_linear_impact_duration_pi_sqrt_m_over_k():
-    # Linear spring impact (reference §3): t_c = π √(m/k). With the building spring k_b acting too,
+    # Linear spring impact (half period of the contact oscillator, Goldsmith 1960): t_c = π √(m/k). With the building spring k_b acting too,
     # the contact phase is the arc above u = g of an oscillation of frequency ω = √((k + k_b)/m)
     # centred at u* = k g/(k + k_b): t_c = (π − 2 asin(s/A))/ω, s = g − u*, A = √(s² + (v0/ω)²);
     # peak force k (A − s), rebound speed = v0 (undamped).

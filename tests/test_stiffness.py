@@ -1,5 +1,5 @@
-"""Tests for pounding.contact.stiffness: springs in series (lecture Eq. 11) and Hertz stiffness of
-spheres (lecture Eqs. 12-13), against hand-worked numbers and Johnson's E*, R* form of Hertz theory.
+"""Tests for pounding.contact.stiffness: springs in series and Hertz stiffness of
+spheres (Hertz 1882; Goldsmith 1960; Lankarani & Nikravesh 1990), against hand-worked numbers and Johnson's E*, R* form of Hertz theory.
 
 Johnson, K.L. (1985). Contact Mechanics, Cambridge University Press, Sec. 4.2:
 F = (4/3) E* √R* δ^(3/2), 1/E* = (1 − ν1²)/E1 + (1 − ν2²)/E2, 1/R* = 1/R1 + 1/R2.
@@ -38,7 +38,7 @@ def _johnson(E1, nu1, R1, E2, nu2, R2=math.inf):
     return 4.0 / 3.0 * e_star * math.sqrt(r_star)
 
 
-# --- springs in series (lecture Eq. 11) -------------------------------------------------------
+# --- springs in series (Goldsmith 1960) -------------------------------------------------------
 
 
 def test_two_equal_springs_give_half():
@@ -96,7 +96,7 @@ def test_series_needs_a_spring():
         springs_in_series()
 
 
-# --- Hertz stiffness (lecture Eqs. 12-13) -----------------------------------------------------
+# --- Hertz stiffness (Hertz 1882; Goldsmith 1960) -----------------------------------------------------
 
 
 def test_hertz_compliance_steel():

@@ -3,7 +3,8 @@ r"""Contact-law parameters from (k, n, e), effective restitution, and exact cali
 :func:`contact_parameters` turns the user's parameters into a law's kernel parameter array.
 :func:`effective_restitution` simulates one free impact of a mass against a rigid wall with a tight
 ``solve_ivp`` integration and measures what the law really does: rebound/approach speed ratio, maximum
-penetration, peak force and contact duration. With ``calibration="exact"`` the law's damping parameter is
+penetration, peak force, the time the force acts (the contact duration) and the time the bodies
+overlap. With ``calibration="exact"`` the law's damping parameter is
 solved (Brent's method on that simulation) so that the *clamped* law's effective restitution equals the
 requested e; with ``calibration="nominal"`` the literature relation e -> damping is used as published.
 """
@@ -33,25 +34,42 @@ CALIBRATIONS = ("nominal", "exact")
 class ImpactResult:
     """Outcome of one free impact against a rigid wall.
 
+    Two durations differ for laws whose clamped force ends while the bodies still overlap (``kelvin``,
+    ``hertz_kelvin``): once k δ + c δ̇ would turn tensile the force is zero, the mass flies free at
+    constant speed, and the overlap δ > 0 closes a little later. The contact duration is the time the
+    force acts; the impact log of a simulation (``impact_start`` to ``impact_end``) spans the overlap.
+
     Attributes
     ----------
     e_effective : float
-        Rebound speed / approach speed [-].
+        Rebound speed / approach speed [-]: the speed when the force ends, which is also the speed at
+        separation (no force acts between the two).
     max_penetration : float
         Largest δ [m].
     peak_force : float
         Largest contact force [N].
-    contact_duration : float
-        Time from first touch to separation [s].
+    force_duration : float
+        Time from first touch to the end of the contact force (last instant with F > 0) [s].
+    overlap_duration : float
+        Time from first touch to separation, δ back to 0 [s]; >= ``force_duration``.
     """
 
     e_effective: float
     max_penetration: float
     peak_force: float
-    contact_duration: float
+    force_duration: float
+    overlap_duration: float = math.nan
+
+    @property
+    def contact_duration(self) -> float:
+        """Contact duration [s]: the time the force acts (= ``force_duration``)."""
+        return self.force_duration
 
     def as_dict(self) -> dict[str, float]:
-        return dataclasses.asdict(self)
+        """Fields plus ``contact_duration`` (= ``force_duration``), the ``--json`` keys."""
+        out = dataclasses.asdict(self)
+        out["contact_duration"] = self.contact_duration
+        return out
 
 
 def _positive(value: float | None, field: str, law: str, allowed: str = "> 0") -> float:
@@ -290,8 +308,32 @@ def _impact(
         e_effective=-v_end / v0,
         max_penetration=float(ys[0].max()),
         peak_force=float(forces.max()),
-        contact_duration=t_end,
+        force_duration=_force_end(sol.sol, force, ts, forces, t_end),
+        overlap_duration=t_end,
     )
+
+
+def _force_end(dense, force, ts: np.ndarray, forces: np.ndarray, t_end: float) -> float:
+    """Last instant [s] with F > 0 before separation at ``t_end``, by bisection on the dense output.
+
+    A clamped force touches zero without changing sign, so it cannot be an event function; once it is
+    zero the mass moves freely away from the wall and the force stays zero (δ falls while δ̇ < 0), so
+    the instant is where the samples switch from F > 0 to F = 0 for good.
+    """
+    positive = np.flatnonzero(forces > 0.0)
+    if positive.size == 0:
+        return float(ts[0])
+    i = int(positive[-1])
+    if i == ts.size - 1:
+        return t_end
+    lo, hi = float(ts[i]), float(ts[i + 1])
+    while hi - lo > 4.0 * np.spacing(hi):
+        mid = 0.5 * (lo + hi)
+        if force(dense(mid)) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 def effective_restitution(
@@ -309,7 +351,9 @@ def effective_restitution(
     """Simulate one free impact of ``mass`` [kg] at ``v0`` [m/s] against a rigid wall.
 
     Returns the effective restitution (rebound/approach speed), the maximum penetration [m], the peak
-    force [N] and the contact duration [s] of the law at these parameters, clamping included.
+    force [N], the time the force acts and the time the bodies overlap [s] of the law at these
+    parameters, clamping included (:class:`ImpactResult`; its ``contact_duration`` is the time the
+    force acts).
     For two bodies, pass the effective mass m̄ = m1 m2 / (m1 + m2) and the relative approach speed.
     The bilinear loop's δ_m defaults to the undamped Hertz δ_max at this speed, and its exact
     calibration is made at this speed.

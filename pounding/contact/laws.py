@@ -51,6 +51,12 @@ References
    design of pounding in bridges. PhD thesis, Georgia Institute of Technology.
 .. [13] Maison, B.F., Kasai, K. (1992). Dynamics of pounding when two buildings collide. Earthquake
    Eng. Struct. Dyn. 21(9), 771-786. doi:10.1002/eqe.4290210903
+.. [14] Hertz, H. (1882). Über die Berührung fester elastischer Körper. J. reine angew. Math. 92,
+   156-171.
+.. [15] Goldsmith, W. (1960). Impact: the theory and physical behaviour of colliding solids. Edward
+   Arnold, London.
+.. [16] Gilardi, G., Sharf, I. (2002). Literature survey of contact dynamics modelling. Mech. Mach.
+   Theory 37(10), 1213-1239.
 """
 
 from __future__ import annotations
@@ -78,14 +84,14 @@ N_KERNEL_PARAMS = 4
 
 
 def linear_kernel(d, dd, v0, d_prev, f_prev, p):
-    r"""Linear spring, lecture Eq. 7: :math:`F = k\delta` [13]."""
+    r"""Linear spring [13]: :math:`F = k\delta`."""
     if d <= 0.0:
         return 0.0, 0.0, 0.0
     return p[0] * d, p[0], 0.0
 
 
 def kelvin_kernel(d, dd, v0, d_prev, f_prev, p):
-    r"""Kelvin-Voigt, lecture Eq. 8: :math:`F = \max(k\delta + c\dot\delta, 0)`, c = p[2] [1]."""
+    r"""Kelvin-Voigt [1]: :math:`F = \max(k\delta + c\dot\delta, 0)`, c = p[2]."""
     if d <= 0.0:
         return 0.0, 0.0, 0.0
     f = p[0] * d + p[2] * dd
@@ -104,7 +110,7 @@ def kelvin_approach_kernel(d, dd, v0, d_prev, f_prev, p):
 
 
 def hertz_kernel(d, dd, v0, d_prev, f_prev, p):
-    r"""Hertz, lecture Eq. 9: :math:`F = k_h\delta^n`."""
+    r"""Hertz [14], [15]: :math:`F = k_h\delta^n`."""
     if d <= 0.0:
         return 0.0, 0.0, 0.0
     dn1 = d ** (p[1] - 1.0)
@@ -112,7 +118,7 @@ def hertz_kernel(d, dd, v0, d_prev, f_prev, p):
 
 
 def hertz_kelvin_kernel(d, dd, v0, d_prev, f_prev, p):
-    r"""Hertz with linear damping, lecture Eq. 10: :math:`F = \max(k_h\delta^n + c\dot\delta, 0)`.
+    r"""Hertz spring with a linear dashpot [16]: :math:`F = \max(k_h\delta^n + c\dot\delta, 0)`.
 
     c = ζ m̄ v0 / δ*, δ* = (m̄ v0² / k_h)^(1/(n+1)): in units of δ* and δ*/v0 the impact depends on
     ζ = p[2] alone, so one numerically calibrated ζ gives the requested e at every impact speed.
@@ -132,7 +138,7 @@ def hertz_kelvin_kernel(d, dd, v0, d_prev, f_prev, p):
 
 
 def hunt_crossley_kernel(d, dd, v0, d_prev, f_prev, p):
-    r"""Hunt-Crossley family, lecture Eqs. 14-15: :math:`F = k_h\delta^n (1 + \chi\dot\delta)`.
+    r"""Hunt-Crossley family [2]: :math:`F = k_h\delta^n (1 + \chi\dot\delta)`.
 
     χ = α / v0 with α = p[2]; the members of the family differ only in α(e) ([2]-[8]).
     """
@@ -267,13 +273,13 @@ def xi_kelvin_approach(e: float) -> float:
 
 
 def alpha_lankarani_nikravesh(e: float) -> float:
-    """χ v0 = 3(1 − e²)/4, lecture Eq. 18 [3] ('Hertzdamp' [4])."""
+    """χ v0 = 3(1 − e²)/4, Lankarani & Nikravesh [3] ('Hertzdamp' of Muthukumar & DesRoches [4])."""
     e = _check_e(e)
     return 0.75 * (1.0 - e * e)
 
 
 def alpha_flores(e: float) -> float:
-    """χ v0 = 8(1 − e)/(5 e), lecture Eq. 19 [5], [6]."""
+    """χ v0 = 8(1 − e)/(5 e), Ye, Li & Zhu [5]; Flores et al. [6]."""
     e = _check_e(e)
     return 1.6 * (1.0 - e) / e
 
@@ -412,7 +418,7 @@ _LAWS = (
                "Hertz 1882; Goldsmith 1960, Impact"),
     ContactLaw("hertz_kelvin", 4, hertz_kelvin_kernel, "zeta", None, 1.5,
                "F = max(k δ^n + c δ̇, 0), c calibrated numerically to e at each impact",
-               "lecture Eq. 10"),
+               "Hertz spring + linear dashpot, e.g. Gilardi & Sharf 2002, MMT 37(10) 1213-1239"),
     ContactLaw("lankarani_nikravesh", 5, hunt_crossley_kernel, "alpha", alpha_lankarani_nikravesh,
                1.5, "F = k δ^n (1 + χ δ̇), χ = 3(1 − e²)/(4 v0)",
                "Lankarani & Nikravesh 1990, J. Mech. Des. 112(3) 369-376; Muthukumar & DesRoches 2006",

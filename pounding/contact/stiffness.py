@@ -1,9 +1,10 @@
 r"""Contact stiffness from the parts in contact: springs in series and Hertz stiffness of spheres.
 
 Two bodies pressed together both deform; the overall penetration δ is the sum of the local
-deformations, so their contact springs act in series (lecture Eq. 11). For elastic spheres (and a
+deformations, so their contact springs act in series (Goldsmith [2]). For elastic spheres (and a
 sphere on a flat), Hertz theory gives the stiffness k_h of F = k_h δ^{3/2} from the elastic constants
-and radii (lecture Eqs. 12-13).
+and radii (Hertz [1], Goldsmith [2] in the compliance form h_k = (1 − ν²)/(π E) used by Lankarani
+and Nikravesh [4]; Johnson [3] in the E*, R* form).
 
 All functions are vectorised over numpy arrays and return a float for scalar input.
 
@@ -60,7 +61,7 @@ def _check(arr: np.ndarray, ok: np.ndarray, field: str, allowed: str) -> None:
 
 
 def springs_in_series(*stiffnesses: ArrayLike) -> float | np.ndarray:
-    r"""Stiffness of contact springs in series [N/m^n], lecture Eq. 11.
+    r"""Stiffness of contact springs in series [N/m^n] (Goldsmith [2]).
 
     .. math:: k = \frac{k_1 k_2}{k_1 + k_2}, \qquad
               \text{in general}\quad \frac{1}{k} = \sum_i \frac{1}{k_i}
@@ -107,7 +108,7 @@ def springs_in_series(*stiffnesses: ArrayLike) -> float | np.ndarray:
 
 
 def hertz_compliance(*, E: ArrayLike, nu: ArrayLike) -> float | np.ndarray:
-    r"""Elastic compliance parameter h_k [1/Pa] of a material, lecture Eq. 12.
+    r"""Elastic compliance parameter h_k [1/Pa] of a material (Goldsmith [2]; Lankarani & Nikravesh [4]).
 
     .. math:: h_k = \frac{1 - \nu_k^2}{\pi E_k}
 
@@ -153,7 +154,7 @@ def hertz_sphere_sphere(
     nu2: ArrayLike,
     R2: ArrayLike,
 ) -> float | np.ndarray:
-    r"""Hertz contact stiffness k_h [N/m^1.5] of two elastic spheres, lecture Eq. 13.
+    r"""Hertz contact stiffness k_h [N/m^1.5] of two elastic spheres (Hertz [1], Goldsmith [2]).
 
     .. math:: k_h = \frac{4}{3\pi(h_i + h_j)}\sqrt{\frac{R_i R_j}{R_i + R_j}},
               \qquad h_k = \frac{1 - \nu_k^2}{\pi E_k}
@@ -197,7 +198,7 @@ def hertz_sphere_plane(
     E_plane: ArrayLike,
     nu_plane: ArrayLike,
 ) -> float | np.ndarray:
-    r"""Hertz contact stiffness k_h [N/m^1.5] of a sphere on a flat, lecture Eq. 13.
+    r"""Hertz contact stiffness k_h [N/m^1.5] of a sphere on a flat (Hertz [1], Goldsmith [2]).
 
     .. math:: k_h = \frac{4}{3\pi(h_i + h_j)}\sqrt{R_i}
 
