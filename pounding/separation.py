@@ -89,7 +89,7 @@ def cqc_correlation(period_i: Any, period_j: Any, damping_i: Any, damping_j: Any
         {(1 - r^2)^2 + 4\zeta_i\zeta_j\,r\,(1 + r^2) + 4(\zeta_i^2 + \zeta_j^2)\,r^2},
         \qquad r = \frac{\omega_j}{\omega_i} = \frac{T_i}{T_j}
 
-    ([1]_ Eq. 30; [8]_ Eq. 13.7.10; reference §5 with i = A, j = B). It is the correlation of the
+    ([1]_ Eq. 30; [8]_ Eq. 13.7.10, with i = A, j = B). It is the correlation of the
     stationary displacement responses of the two oscillators to white noise, symmetric under
     (i, ζ_i) ↔ (j, ζ_j), equal to 1 for equal periods and damping and → 0 as the periods separate.
 
@@ -164,12 +164,12 @@ def combine_modes(contributions: Any, periods: Any, dampings: Any, rule: str = "
 
 
 def abs_gap(u_a: Any, u_b: Any) -> np.ndarray:
-    r"""Absolute-sum separation S = |u_A| + |u_B| [m] (reference §5): the two peaks in opposite phase."""
+    r"""Absolute-sum separation S = |u_A| + |u_B| [m] ([3]_, [4]_): the two peaks in opposite phase."""
     return np.abs(np.asarray(u_a, float)) + np.abs(np.asarray(u_b, float))
 
 
 def srss_gap(u_a: Any, u_b: Any) -> np.ndarray:
-    r"""Square-root-of-sum-of-squares separation S = √(u_A² + u_B²) [m] (reference §5)."""
+    r"""Square-root-of-sum-of-squares separation S = √(u_A² + u_B²) [m] ([3]_, [4]_)."""
     return np.hypot(np.asarray(u_a, float), np.asarray(u_b, float))
 
 
@@ -189,7 +189,7 @@ def ddc_gap(
         S = \sqrt{u_A^2 + u_B^2 - 2\rho_{AB}\,u_A u_B}
 
     with ρ_AB the CQC correlation (:func:`cqc_correlation`) of the two buildings' fundamental periods
-    and damping ratios ([3]_, [4]_; reference §5). Equal periods and damping give ρ = 1 and
+    and damping ratios ([3]_, [4]_). Equal periods and damping give ρ = 1 and
     S = |u_A − u_B| (the buildings move in phase); widely separated periods give ρ → 0 and the SRSS.
 
     Parameters

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import (
     GroundMotion,
     _check_damping,
@@ -134,7 +135,7 @@ def jennings_envelope(t: Any, *, rise: float, strong_end: float, decay: float) -
     """
     t = np.asarray(t, dtype=float)
     if not (rise > 0 and strong_end >= rise and decay > 0):
-        raise ValueError(
+        raise PoundingInputError(
             "jennings_envelope: need rise > 0, strong_end >= rise, decay > 0; got "
             f"rise={rise}, strong_end={strong_end}, decay={decay}"
         )
@@ -174,7 +175,7 @@ def saragoni_hart_envelope(
        Applied Geophysics 160, 635-676, Eq. 12. doi:10.1007/PL00012553
     """
     if not (duration > 0 and 0 < epsilon < 1 and 0 < eta < 1):
-        raise ValueError(
+        raise PoundingInputError(
             "saragoni_hart_envelope: need duration > 0, 0 < epsilon < 1, 0 < eta < 1; got "
             f"duration={duration}, epsilon={epsilon}, eta={eta}"
         )
@@ -216,7 +217,7 @@ def envelope(name: str | None, t: np.ndarray, duration: float, **params: Any) ->
         func, defaults = ENVELOPES[name]
     except KeyError:
         allowed = ", ".join([*ENVELOPES, "none"])
-        raise ValueError(f"unknown envelope {name!r}; allowed: {allowed}") from None
+        raise PoundingInputError(f"unknown envelope {name!r}; allowed: {allowed}") from None
     return func(t, **{**defaults(duration), **params})
 
 
@@ -227,9 +228,9 @@ def envelope(name: str | None, t: np.ndarray, duration: float, **params: Any) ->
 
 def _grid(duration: float, dt: float, what: str) -> int:
     if not (math.isfinite(duration) and duration > 0):
-        raise ValueError(f"{what}: duration must be > 0 [s], got {duration}")
+        raise PoundingInputError(f"{what}: duration must be > 0 [s], got {duration}")
     if not (math.isfinite(dt) and dt > 0 and dt < duration):
-        raise ValueError(f"{what}: dt must be in (0, duration) [s], got {dt}")
+        raise PoundingInputError(f"{what}: dt must be in (0, duration) [s], got {dt}")
     return int(math.floor(duration / dt + 1e-9)) + 1
 
 
@@ -277,14 +278,14 @@ def filtered_white_noise(
     what = f"{model} synthetic record"
     if model not in _FILTERS:
         allowed = ", ".join(_FILTERS)
-        raise ValueError(f"unknown synthetic model {model!r}; allowed: {allowed}")
+        raise PoundingInputError(f"unknown synthetic model {model!r}; allowed: {allowed}")
     n = _grid(duration, dt, what)
     for field, value in (("s0", s0), ("omega_g", omega_g), ("omega_f", omega_f)):
         if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{what}: {field} must be > 0, got {value}")
+            raise PoundingInputError(f"{what}: {field} must be > 0, got {value}")
     for field, value in (("zeta_g", zeta_g), ("zeta_f", zeta_f)):
         if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{what}: {field} must be > 0, got {value}")
+            raise PoundingInputError(f"{what}: {field} must be > 0, got {value}")
     n_pad = int(round(max(pad, 0.0) / dt))
     rng = np.random.default_rng(seed)
     noise = rng.standard_normal(n + n_pad) * math.sqrt(2.0 * math.pi * s0 / dt)
@@ -419,17 +420,19 @@ def spectrum_compatible(
     periods = _check_periods(periods)
     psa = np.atleast_1d(np.asarray(psa, dtype=float))
     if psa.shape != periods.shape or not np.all(np.isfinite(psa)) or np.any(psa <= 0):
-        raise ValueError(f"{what}: psa must be positive and match periods in shape, got {psa}")
+        raise PoundingInputError(
+            f"{what}: psa must be positive and match periods in shape, got {psa}"
+        )
     if np.any(np.diff(periods) <= 0):
-        raise ValueError(f"{what}: periods must be strictly increasing")
+        raise PoundingInputError(f"{what}: periods must be strictly increasing")
     damping = _check_damping(damping)
     if not (math.isfinite(tolerance) and tolerance > 0):
-        raise ValueError(f"{what}: tolerance must be > 0, got {tolerance}")
+        raise PoundingInputError(f"{what}: tolerance must be > 0, got {tolerance}")
     n = _grid(duration, dt, what)
     t_lo = max(periods[0], 5.0 * dt)
     t_hi = periods[-1]
     if not t_lo < t_hi:
-        raise ValueError(f"{what}: target periods must extend above 5 dt = {5 * dt:g} s")
+        raise PoundingInputError(f"{what}: target periods must extend above 5 dt = {5 * dt:g} s")
     control = np.geomspace(t_lo, t_hi, int(n_control))
     log_t = np.log(periods)
     target = np.exp(np.interp(np.log(control), log_t, np.log(psa)))

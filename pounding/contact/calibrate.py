@@ -26,6 +26,7 @@ from pounding.contact.laws import (
     bilinear_stiffnesses,
     get_contact_law,
 )
+from pounding.errors import PoundingInputError
 
 CALIBRATIONS = ("nominal", "exact")
 
@@ -74,10 +75,10 @@ class ImpactResult:
 
 def _positive(value: float | None, field: str, law: str, allowed: str = "> 0") -> float:
     if value is None:
-        raise ValueError(f"law {law!r} needs {field} ({allowed})")
+        raise PoundingInputError(f"law {law!r} needs {field} ({allowed})")
     value = float(value)
     if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"law {law!r}: {field} = {value}; allowed: {allowed}")
+        raise PoundingInputError(f"law {law!r}: {field} = {value}; allowed: {allowed}")
     return value
 
 
@@ -118,23 +119,27 @@ def _validate(
     name = law.name
     k = _positive(k, "k", name, "> 0 [N/m^n]")
     if calibration not in CALIBRATIONS:
-        raise ValueError(f"calibration = {calibration!r}; allowed: {', '.join(CALIBRATIONS)}")
+        raise PoundingInputError(
+            f"calibration = {calibration!r}; allowed: {', '.join(CALIBRATIONS)}"
+        )
     if n is None:
         n = law.default_n
     elif not law.has_exponent and float(n) != 1.0:
-        raise ValueError(f"law {name!r} is linear in δ and takes no exponent n (got n = {n})")
+        raise PoundingInputError(
+            f"law {name!r} is linear in δ and takes no exponent n (got n = {n})"
+        )
     n = float(n)
     if not (math.isfinite(n) and 1.0 <= n <= 3.0):
-        raise ValueError(f"law {name!r}: n = {n}; allowed: 1 <= n <= 3 (3/2 for Hertz)")
+        raise PoundingInputError(f"law {name!r}: n = {n}; allowed: 1 <= n <= 3 (3/2 for Hertz)")
     if law.has_damping:
         e = _positive(e, "e", name, "0 < e <= 1")
         if e > 1.0:
-            raise ValueError(f"law {name!r}: e = {e}; allowed: 0 < e <= 1")
+            raise PoundingInputError(f"law {name!r}: e = {e}; allowed: 0 < e <= 1")
     if law.damping in ("xi", "zeta") or (calibration == "exact" and law.has_damping):
         mass = _positive(mass, "mass (effective mass m̄ of the impact)", name, "> 0 [kg]")
     if law.is_bilinear:
         if not (0.0 < float(a) < 1.0):
-            raise ValueError(f"law {name!r}: a = {a}; allowed: 0 < a < 1 (about 0.1)")
+            raise PoundingInputError(f"law {name!r}: a = {a}; allowed: 0 < a < 1 (about 0.1)")
         delta_m = _positive(delta_m, "delta_m (expected maximum penetration)", name, "> 0 [m]")
     return k, n, e, mass, delta_m
 
@@ -247,7 +252,7 @@ def _solve_damping(
             break
         hi = min(hi * 2.0, 0.5 * (hi + cap))
     else:
-        raise ValueError(
+        raise PoundingInputError(
             f"law {name!r}: no damping gives an effective restitution as low as e = {e}"
         )
     return brentq(residual, 0.0, hi, xtol=1e-12, rtol=1e-10)
@@ -298,7 +303,9 @@ def _impact(
         max_step=0.01 * t_star,
     )
     if not sol.t_events[0].size:
-        raise ValueError(f"law {law.name!r}: the mass did not separate from the wall within 200 t*")
+        raise PoundingInputError(
+            f"law {law.name!r}: the mass did not separate from the wall within 200 t*"
+        )
     t_end = float(sol.t_events[0][0])
     v_end = float(sol.y_events[0][0][1])
     ts = np.linspace(t_start, t_end, 4001)
