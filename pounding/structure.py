@@ -32,7 +32,6 @@ import math
 import operator
 
 import numpy as np
-import scipy.linalg
 
 from pounding import friction as _friction
 from pounding.units import G
@@ -499,6 +498,8 @@ class ShearBuilding:
 
     @functools.cached_property
     def _modal(self) -> ModalProperties:
+        import scipy.linalg  # here, not at import: only analyses need the modes
+
         eigenvalues, shapes = scipy.linalg.eigh(self.stiffness_matrix(), self.mass_matrix())
         omega = np.sqrt(eigenvalues)  # ascending; K is positive definite for positive k
         shapes = shapes * np.sign(shapes[reference_floors(shapes), np.arange(shapes.shape[1])])

@@ -61,8 +61,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import minimize_scalar
 
 from pounding.ground_motion import GroundMotion, ground_velocity
 from pounding.integrators._kernels import (
@@ -579,6 +577,8 @@ def _refine_max(model: _Model, sol, lo: float, hi: float, c: int, key: str) -> f
     Only values actually evaluated on the dense output are returned, so a kink (clamped force, law
     switching) cannot make it overshoot.
     """
+    from scipy.optimize import minimize_scalar
+
     res = minimize_scalar(
         lambda tt: -model.element_value(sol(tt), c, key),
         bounds=(lo, hi),
@@ -747,6 +747,8 @@ def integrate_ivp(
     stalls = 0
     t = 0.0
     first_step: float | None = None
+
+    from scipy.integrate import solve_ivp  # here, not at import: scipy.integrate loads slowly
 
     # t_end = 0: nothing to integrate, the structure is at rest (the zero-initialised outputs)
     bps = _breakpoints(ground, t_end) if t_end > 0.0 else np.zeros(1)
