@@ -10,6 +10,8 @@ $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[test,records,distributed]'
+	# compile the numba kernels now (once per install), not during the first analysis
+	$(BIN)/pounding warmup
 	touch $(STAMP)
 
 demo: $(STAMP)

@@ -5,32 +5,88 @@ The public API; everything else lives in its module.
 
 from __future__ import annotations
 
-from pounding._version import __version__
-from pounding.case import Case, CaseError, load_case
-from pounding.contact.calibrate import ImpactResult, contact_parameters, effective_restitution
-from pounding.contact.laws import CONTACT_LAWS, get_contact_law
-from pounding.ground_motion import GroundMotion, harmonic, ricker, sine_pulse
-from pounding.integrators.base import ConvergenceError
-from pounding.results import open_result, save
-from pounding.simulate import AnalysisOptions, simulate
-from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
-from pounding.studies import Study, StudyError, load_study, run_study
-from pounding.system import Contact, PoundingSystem, assemble
+import importlib
+import sys
+import types
+from typing import TYPE_CHECKING
 
-# Heavier layers (scipy.stats, matplotlib) load on first use, so `import pounding` stays quick.
+from pounding._version import __version__
+
+# Every public name loads its module on first use (PEP 562), so `import pounding` and `pounding --help`
+# do not pay for numba, xarray or scipy; `from pounding import simulate` works as before.
 _LAZY = {
+    "Case": "pounding.case",
+    "CaseError": "pounding.case",
+    "load_case": "pounding.case",
+    "ImpactResult": "pounding.contact.calibrate",
+    "contact_parameters": "pounding.contact.calibrate",
+    "effective_restitution": "pounding.contact.calibrate",
+    "CONTACT_LAWS": "pounding.contact.laws",
+    "get_contact_law": "pounding.contact.laws",
+    "GroundMotion": "pounding.ground_motion",
+    "harmonic": "pounding.ground_motion",
+    "ricker": "pounding.ground_motion",
+    "sine_pulse": "pounding.ground_motion",
+    "ConvergenceError": "pounding.integrators.base",
+    "open_result": "pounding.results",
+    "save": "pounding.results",
+    "AnalysisOptions": "pounding.simulate",
+    "simulate": "pounding.simulate",
+    "IsolationBase": "pounding.structure",
+    "ModalDamping": "pounding.structure",
+    "RayleighDamping": "pounding.structure",
+    "ShearBuilding": "pounding.structure",
+    "Study": "pounding.studies",
+    "StudyError": "pounding.studies",
+    "load_study": "pounding.studies",
+    "run_study": "pounding.studies",
+    "Contact": "pounding.system",
+    "PoundingSystem": "pounding.system",
+    "assemble": "pounding.system",
     "separation_analysis": "pounding.separation",
     "load_separation_case": "pounding.separation",
     "write_report": "pounding.report",
 }
 
+if TYPE_CHECKING:  # for type checkers and IDEs (not report and separation: import layers)
+    from pounding.case import Case, CaseError, load_case
+    from pounding.contact.calibrate import ImpactResult, contact_parameters, effective_restitution
+    from pounding.contact.laws import CONTACT_LAWS, get_contact_law
+    from pounding.ground_motion import GroundMotion, harmonic, ricker, sine_pulse
+    from pounding.integrators.base import ConvergenceError
+    from pounding.results import open_result, save
+    from pounding.simulate import AnalysisOptions, simulate
+    from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
+    from pounding.studies import Study, StudyError, load_study, run_study
+    from pounding.system import Contact, PoundingSystem, assemble
+
 
 def __getattr__(name: str):
-    if name in _LAZY:
-        import importlib
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'pounding' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later look-ups skip __getattr__
+    return value
 
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'pounding' has no attribute {name!r}")
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+class _Package(types.ModuleType):
+    """The package module: keeps ``pounding.simulate`` the function once its submodule is imported.
+
+    Importing a submodule sets it as an attribute of the package, which would hide the function
+    ``simulate`` behind the module ``pounding.simulate`` (the eager imports used to rebind it)."""
+
+    def __setattr__(self, name: str, value: object) -> None:
+        if name == "simulate" and isinstance(value, types.ModuleType):
+            value = value.simulate
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
 
 
 __all__ = [

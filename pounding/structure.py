@@ -32,7 +32,6 @@ import math
 import operator
 
 import numpy as np
-import scipy.linalg
 
 from pounding import friction as _friction
 from pounding.errors import PoundingInputError
@@ -514,7 +513,11 @@ class ShearBuilding:
 
     @functools.cached_property
     def _modal(self) -> ModalProperties:
-        eigenvalues, shapes = scipy.linalg.eigh(self.stiffness_matrix(), self.mass_matrix())
+        # M is diagonal: the symmetric standard problem (M^-1/2 K M^-1/2) y = ω² y, φ = M^-1/2 y
+        # (Φᵀ M Φ = I), solved by numpy (scipy.linalg would cost a slow import for this one call)
+        s = 1.0 / np.sqrt(self.masses)
+        eigenvalues, y = np.linalg.eigh(s[:, None] * self.stiffness_matrix() * s[None, :])
+        shapes = s[:, None] * y
         omega = np.sqrt(eigenvalues)  # ascending; K is positive definite for positive k
         shapes = shapes * np.sign(shapes[reference_floors(shapes), np.arange(shapes.shape[1])])
         gamma = shapes.T @ self.masses  # Γ_j = φ_jᵀ M 1 with Φᵀ M Φ = I

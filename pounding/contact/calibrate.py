@@ -16,8 +16,6 @@ import functools
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from pounding.contact.laws import (
     N_KERNEL_PARAMS,
@@ -255,6 +253,8 @@ def _solve_damping(
         raise PoundingInputError(
             f"law {name!r}: no damping gives an effective restitution as low as e = {e}"
         )
+    from scipy.optimize import brentq  # here, not at import: scipy loads slowly
+
     return brentq(residual, 0.0, hi, xtol=1e-12, rtol=1e-10)
 
 
@@ -291,6 +291,8 @@ def _impact(
     # start just inside the contact so the separation event does not fire at t = 0
     t_start = 1e-9 * t_star
     y0[0] = v0 * t_start
+    from scipy.integrate import solve_ivp  # here, not at import: scipy.integrate loads slowly
+
     sol = solve_ivp(
         rhs,
         (t_start, 200.0 * t_star),

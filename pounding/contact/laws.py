@@ -66,7 +66,6 @@ import math
 from collections.abc import Callable
 
 import numpy as np
-from scipy.optimize import brentq
 
 from pounding.errors import PoundingInputError
 
@@ -266,6 +265,8 @@ def xi_kelvin_approach(e: float) -> float:
     e = _check_e(e)
     if e == 1.0:
         return 0.0
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize loads slowly
+
     hi = 1.0
     while restitution_kelvin_approach(hi) > e:
         hi *= 2.0
@@ -314,6 +315,8 @@ def alpha_hunt_crossley(e: float) -> float:
         return 0.0
     # The residual is u²(1 − e²)/2 + O(u³) near 0 (lost to round-off for tiny u) and negative at 1/e;
     # the root is above (1 − e), so bracket from there.
+    from scipy.optimize import brentq
+
     return brentq(
         hunt_crossley_residual, 0.5 * (1.0 - e), 1.0 / e, args=(e,), xtol=1e-15, rtol=1e-15
     )

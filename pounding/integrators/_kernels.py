@@ -427,7 +427,66 @@ def _tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha):
     """Band rows of the Newmark/HHT tangent without contacts, c0 M + (1 + α)(c1 C + K)."""
     c0 = 1.0 / (beta * hs * hs)
     c1 = gamma / (beta * hs)
-    return c0 * Mb + (1.0 + alpha) * (c1 * Cb + Kb)
+    w = 1.0 + alpha
+    Jb = np.empty_like(Mb)
+    for i in range(Mb.shape[0]):
+        for k in range(Mb.shape[1]):
+            Jb[i, k] = c0 * Mb[i, k] + w * (c1 * Cb[i, k] + Kb[i, k])
+    return Jb
+
+
+@jit
+def _band_inverse(L, D, bw, out):
+    """out = A⁻¹ (dense) from the band LDLᵀ factors of A, one column per unit vector (the setup of a
+    run; explicit loops compile in a fraction of the time of numba's LAPACK bindings)."""
+    n = D.size
+    e = np.zeros(n)
+    x = np.zeros(n)
+    for j in range(n):
+        e[j] = 1.0
+        band_solve(L, D, bw, e, x)
+        e[j] = 0.0
+        for i in range(n):
+            out[i, j] = x[i]
+
+
+@jit
+def _transpose(A):
+    """A contiguous copy of Aᵀ."""
+    out = np.empty((A.shape[1], A.shape[0]))
+    for i in range(A.shape[0]):
+        for j in range(A.shape[1]):
+            out[j, i] = A[i, j]
+    return out
+
+
+@jit
+def _gauss_solve(J, r, x):
+    """x = J⁻¹ r by Gaussian elimination with partial pivoting; J is overwritten (a general square
+    matrix: the tangent with a stuck slab's constraint rows is not symmetric)."""
+    n = r.size
+    b = r.copy()
+    for col in range(n):
+        piv = col
+        for row in range(col + 1, n):
+            if abs(J[row, col]) > abs(J[piv, col]):
+                piv = row
+        if piv != col:
+            for q in range(n):
+                J[col, q], J[piv, q] = J[piv, q], J[col, q]
+            b[col], b[piv] = b[piv], b[col]
+        p = J[col, col]
+        for row in range(col + 1, n):
+            f = J[row, col] / p
+            if f != 0.0:
+                for q in range(col, n):
+                    J[row, q] -= f * J[col, q]
+                b[row] -= f * b[col]
+    for col in range(n - 1, -1, -1):
+        acc = b[col]
+        for q in range(col + 1, n):
+            acc -= J[col, q] * x[q]
+        x[col] = acc / J[col, col]
 
 
 @jit_inline
@@ -657,9 +716,9 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
                         J[i, j] = 0.0
                     J[i, i] = 1.0
                     R[i] = 0.0
-            sol = np.linalg.solve(J, R)
+            _gauss_solve(J, R, step)
             for i in range(n):
-                step[i] = -sol[i]
+                step[i] = -step[i]
         big = 0.0
         u_max = u_scale
         for i in range(n):
@@ -669,7 +728,7 @@ def _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta, alpha,
         for k in range(n_fr):
             if fr_state[k, FS_STUCK] != 0.0:
                 u1[fr_dof[k]] = u[fr_dof[k]]  # exactly, not to round-off
-        if not np.isfinite(big):
+        if not math.isfinite(big):
             return False, it
         small = big <= tol * u_max
     return False, max_iter
@@ -680,6 +739,12 @@ def _dense_map(hs, M, C, K, Mi, gamma, beta, alpha):
     """Q (n × 3n) and p (n) with u1 = Q [u; v; a] + p g_eff: one Newmark/HHT step of the linear
     system, for small systems (see :func:`_linear_step`)."""
     n = M.shape[0]
+    bw = bandwidth(M, C, K)
+    L, D = band_ldl(
+        _tangent_band(hs, to_band(M, bw), to_band(C, bw), to_band(K, bw), gamma, beta, alpha), bw
+    )
+    J_inv = np.empty((n, n))
+    _band_inverse(L, D, bw, J_inv)
     c0 = 1.0 / (beta * hs * hs)
     c1 = gamma / (beta * hs)
     c2 = 1.0 / (beta * hs)
@@ -687,12 +752,17 @@ def _dense_map(hs, M, C, K, Mi, gamma, beta, alpha):
     c4 = gamma / beta - 1.0
     c5 = hs * (0.5 * gamma / beta - 1.0)
     w = 1.0 + alpha
-    J_inv = np.linalg.inv(c0 * M + w * (c1 * C + K))
-    Q = np.empty((n, 3 * n))
-    Q[:, :n] = J_inv @ (c0 * M + w * c1 * C + alpha * K)
-    Q[:, n : 2 * n] = J_inv @ (c2 * M + (w * c4 + alpha) * C)
-    Q[:, 2 * n :] = J_inv @ (c3 * M + w * c5 * C)
-    return Q, -(J_inv @ Mi)
+    Q = np.zeros((n, 3 * n))
+    pg = np.zeros(n)
+    for i in range(n):
+        for k in range(n):
+            jik = J_inv[i, k]
+            pg[i] -= jik * Mi[k]
+            for j in range(n):
+                Q[i, j] += jik * (c0 * M[k, j] + w * c1 * C[k, j] + alpha * K[k, j])
+                Q[i, n + j] += jik * (c2 * M[k, j] + (w * c4 + alpha) * C[k, j])
+                Q[i, 2 * n + j] += jik * (c3 * M[k, j] + w * c5 * C[k, j])
+    return Q, pg
 
 
 @jit
@@ -1058,10 +1128,14 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     n_el = el_gap.size
     n_fr = fr_dof.size
     n_x = n_el + n_fr
-    Mi = M @ iota
+    Mi = np.zeros(n)
+    _dense_matvec_add(M, iota, 1.0, Mi)
     u = np.zeros(n)
     v = np.zeros(n)
-    a = -iota * ground_at(ag, ag_dt, 0.0)
+    a = np.zeros(n)
+    g_0 = ground_at(ag, ag_dt, 0.0)
+    for i in range(n):
+        a[i] = -iota[i] * g_0
     u1 = np.zeros(n)
     v1 = np.zeros(n)
     a1 = np.zeros(n)
@@ -1096,10 +1170,6 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
         else:
             fr_linear = False
         fr_state[k, FS_DIR] = 1.0
-    w = 1.0 + alpha
-    J_base = (1.0 / (beta * h * h)) * M + w * ((gamma / (beta * h)) * C + K)
-    J_inv = np.linalg.inv(J_base)
-    M_inv = np.linalg.inv(M)
     # band storage: a row of shear buildings has tridiagonal M, C (Rayleigh), K, so every per-step
     # product and solve is O(n); dense damping or an isolation slab widens the band, never beyond n
     bw = bandwidth(M, C, K)
@@ -1107,10 +1177,16 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     Cb = to_band(C, bw)
     Kb = to_band(K, bw)
     # diagonal-major copies for the quadratic forms of the energy ledger
-    MbT = np.ascontiguousarray(Mb.T)
-    CbT = np.ascontiguousarray(Cb.T)
-    KbT = np.ascontiguousarray(Kb.T)
+    MbT = _transpose(Mb)
+    CbT = _transpose(Cb)
+    KbT = _transpose(Kb)
     L_h, D_h = band_ldl(_tangent_band(h, Mb, Cb, Kb, gamma, beta, alpha), bw)
+    # the inverses from the SPD band factors (the tangent and M are symmetric positive definite)
+    J_inv = np.empty((n, n))
+    _band_inverse(L_h, D_h, bw, J_inv)
+    M_inv = np.empty((n, n))
+    L_m, D_m = band_ldl(Mb, bw)
+    _band_inverse(L_m, D_m, bw, M_inv)
     lin = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
     dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
     if dense:
@@ -1160,7 +1236,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     t = 0.0
     # ground acceleration at the step start, carried from the last accepted step end
     g_start = ground_at(ag, ag_dt, 0.0)
-    _store(0, t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, MbT, KbT, bw, el_law, el_params,
+    _store(np.int64(0), t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, MbT, KbT, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st)  # fmt: skip
     for k in range(n_steps):
         t = k * h
@@ -1211,12 +1287,12 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             else:
                 if in_contact and abs(hs - h_contact) <= 1e-8 * h_contact and h_inv_c != h_contact:
                     # a new contact step size: its tangent inverse serves every step of the impact
-                    J_inv_c[:] = np.linalg.inv(
-                        (1.0 / (beta * hs * hs)) * M + w * ((gamma / (beta * hs)) * C + K)
-                    )
                     L_new, D_new = band_ldl(_tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha), bw)
-                    L_c[:] = L_new
-                    D_c[:] = D_new
+                    _band_inverse(L_new, D_new, bw, J_inv_c)
+                    for i in range(n):
+                        D_c[i] = D_new[i]
+                        for j in range(bw + 1):
+                            L_c[i, j] = L_new[i, j]
                     h_inv_c = hs
                     _condense_map(J_inv_c, el_dof, el_sign, Zc, Sc)
                 use_c = abs(hs - h_inv_c) <= 1e-8 * h_inv_c
@@ -1538,18 +1614,10 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 p_c0 = 0.0
                 for c in range(n_el):
                     p_c0 += f1[c] * dd1[c]
-                if n_fr == 0:
-                    rhs = -Mi * g1 - C @ v1 - K @ u1
-                    for c in range(n_el):
-                        for s in range(2):
-                            i = el_dof[c, s]
-                            if i >= 0:
-                                rhs[i] -= el_sign[c, s] * f1[c]
-                    a1[:] = M_inv @ rhs
-                else:
-                    # a stuck slab hit by a jumping contact force may break away at once
-                    _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
-                                 fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
+                # a stuck slab hit by a jumping contact force may break away at once
+                _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
+                             fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
+                if n_fr > 0:
                     p_f0 = 0.0
                     for kk in range(n_fr):
                         p_f0 += fr_state[kk, FS_F1] * v1[fr_dof[kk]]
@@ -1592,12 +1660,15 @@ def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, MbT, KbT, 
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st):  # fmt: skip
     if row >= out_u.shape[0]:
         return
-    out_u[row] = u
-    out_v[row] = v
-    out_a[row] = a
+    # element loops, not row slices: a slice assignment compiles numba's broadcasting checks
+    for i in range(u.size):
+        out_u[row, i] = u[i]
+        out_v[row, i] = v[i]
+        out_a[row, i] = a[i]
     out_ag[row] = ground_at(ag, ag_dt, t)
-    out_d[row] = d
-    out_f[row] = f
+    for c in range(d.size):
+        out_d[row, c] = d[c]
+        out_f[row, c] = f[c]
     for k in range(fr_state.shape[0]):
         out_ff[row, k] = fr_state[k, FS_F0]
         out_st[row, k] = fr_state[k, FS_STUCK]

@@ -66,8 +66,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq, minimize_scalar
 
 from pounding.errors import IntegrationError, PoundingInputError
 from pounding.ground_motion import GroundMotion, ground_velocity
@@ -594,6 +592,8 @@ def _refine_max(model: _Model, sol, lo: float, hi: float, c: int, key: str) -> f
     Only values actually evaluated on the dense output are returned, so a kink (clamped force, law
     switching) cannot make it overshoot.
     """
+    from scipy.optimize import minimize_scalar
+
     res = minimize_scalar(
         lambda tt: -model.element_value(sol(tt), c, key),
         bounds=(lo, hi),
@@ -658,6 +658,8 @@ def _missed_switch(model: _Model, sol, t0: float, in_contact: np.ndarray) -> tup
     the start t0 of this solver call), once. That crossing is located by Brent's method on the dense
     output.
     """
+    from scipy.optimize import brentq
+
     first, which = math.inf, -1
     base = len(sol.t_events) - model.ne
     for c in range(model.ne):
@@ -813,6 +815,8 @@ def integrate_ivp(
     stalls = 0
     t = 0.0
     first_step: float | None = None
+
+    from scipy.integrate import solve_ivp  # here, not at import: scipy.integrate loads slowly
 
     # t_end = 0: nothing to integrate, the structure is at rest (the zero-initialised outputs)
     bps = _breakpoints(ground, t_end) if t_end > 0.0 else np.zeros(1)

@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.special import beta as beta_fn
 
 from pounding.contact.laws import LAWS_BY_ID
 from pounding.ground_motion import GroundMotion
@@ -94,6 +93,11 @@ def get_scheme(scheme: str | Newmark | type[Newmark], **options: float) -> Newma
     return cls(**options)
 
 
+def _beta_fn(x: float, y: float) -> float:
+    """Euler's beta function B(x, y) = Γ(x) Γ(y) / Γ(x + y) (x, y > 0; no scipy.special import)."""
+    return math.exp(math.lgamma(x) + math.lgamma(y) - math.lgamma(x + y))
+
+
 def contact_duration_coefficients(system: PoundingSystem) -> tuple[np.ndarray, np.ndarray]:
     r"""(A, b) per gap element with t_c(v0) = A v0^b, the undamped contact duration [s] at speed v0 [m/s].
 
@@ -108,7 +112,7 @@ def contact_duration_coefficients(system: PoundingSystem) -> tuple[np.ndarray, n
         law = LAWS_BY_ID[el.el_law[c]]
         k = el.el_params[c, 0]
         n = 1.0 if law.is_bilinear else el.el_params[c, 1]
-        factor = 2.0 * beta_fn(1.0 / (n + 1.0), 0.5) / (n + 1.0)
+        factor = 2.0 * _beta_fn(1.0 / (n + 1.0), 0.5) / (n + 1.0)
         coef[c] = factor * ((n + 1.0) * el.el_mass[c] / (2.0 * k)) ** (1.0 / (n + 1.0))
         expo[c] = 2.0 / (n + 1.0) - 1.0
     return coef, expo

@@ -1,0 +1,106 @@
+"""The compiled kernels' disk cache: where it is, whether it is warm, and a warm-up that fills it.
+
+numba compiles the Newmark kernels (:mod:`pounding.integrators._kernels`) on their first call and keeps
+the machine code on disk (``cache=True``): in ``pounding/integrators/__pycache__`` beside the sources,
+or under ``NUMBA_CACHE_DIR`` when that is set (numba falls back to a per-user directory when the
+package directory is read-only). The cache is keyed on the source files, so a reinstall or an upgrade
+of pounding (or of numba) empties it and the next analysis compiles again, once. :func:`warm_up`
+does that on purpose (``pounding warmup``, run by ``make`` after installing); the CLI calls
+:func:`is_warm` first and tells the user when a run is about to compile.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+#: Wall time [s] of a cold compilation on the reference machine (2-core AMD EPYC, numba 0.68;
+#: benchmarks/startup.py), quoted in the notice.
+COMPILE_SECONDS = 30
+
+
+def _dispatcher():
+    from pounding.integrators import _kernels as kn
+
+    return kn.newmark_run
+
+
+def cache_dir() -> Path | None:
+    """Directory of numba's cache of the kernels, or None when running uncompiled
+    (``NUMBA_DISABLE_JIT=1``)."""
+    cache = getattr(_dispatcher(), "_cache", None)
+    path = getattr(cache, "cache_path", None)
+    return Path(path) if path else None
+
+
+def is_warm() -> bool:
+    """True when numba's cache holds the integrator kernel compiled from the current sources.
+
+    Reads the cache index of ``newmark_run`` (numba's own staleness test: the source file's stamp);
+    a run then loads the compiled kernels in well under a second. Also True when there is nothing to
+    compile (``NUMBA_DISABLE_JIT=1``), or when numba's cache internals cannot be read (no notice
+    rather than a wrong one)."""
+    disp = _dispatcher()
+    if disp.signatures:
+        return True  # compiled or loaded in this process already
+    cache = getattr(disp, "_cache", None)
+    if cache is None:
+        return True
+    try:
+        return bool(cache._cache_file._load_index())
+    except Exception:  # a numba version with other internals
+        return True
+
+
+def notice() -> str:
+    """The one-line message shown before a cold compilation."""
+    where = cache_dir()
+    return (
+        f"compiling numerical kernels, one time, about {COMPILE_SECONDS} s; "
+        f"cache in {where if where else 'memory'}"
+    )
+
+
+_WARMUP_CASE = {
+    "building": [
+        {"name": "A", "n_floors": 1, "period": 0.5, "mass": 2.0e5, "damping": {"ratio": 0.05}},
+        {"name": "B", "n_floors": 1, "period": 1.0, "mass": 2.0e5, "damping": {"ratio": 0.05}},
+    ],
+    "contact": [
+        {"left": "A", "right": "B", "gap": 0.002, "law": "hunt_crossley", "k": 2.75e9, "e": 0.65}
+    ],
+    "ground_motion": {
+        "type": "sine_pulse",
+        "amplitude": 0.4,
+        "units": "g",
+        "period": 0.7,
+        "duration": 0.5,
+    },
+    "analysis": {"method": "newmark", "output_dt": 0.01},
+}
+
+
+def warm_up() -> float:
+    """Compile (or load) the Newmark kernels by running a small two-building case with impacts.
+
+    Returns the wall time [s] it took: tens of seconds on a cold cache, a fraction of a second on a
+    warm one. Every analysis calls the kernels with the same argument types, so this one call serves
+    them all."""
+    from pounding.case import case_from_dict
+    from pounding.simulate import run
+
+    start = time.perf_counter()
+    case = case_from_dict(_WARMUP_CASE, source="warm-up case")
+    run(case.system, case.ground_motion, case.analysis)
+    return time.perf_counter() - start
+
+
+def ensure_compiled(announce=None) -> float:
+    """Warm the cache when it is cold, after calling ``announce(notice())``; returns the seconds spent
+    (0 when already warm). Studies call this before starting worker processes, so the workers load
+    the kernels from the cache instead of each compiling them."""
+    if is_warm():
+        return 0.0
+    if announce is not None:
+        announce(notice())
+    return warm_up()
