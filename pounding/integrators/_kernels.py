@@ -164,6 +164,8 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 0, 1, 2
 DENSE_MAP_RATIO = 0.35
 #: A located closure ends with the gap shut to within this [m].
 LOCATE_TOL = 1e-10
+# an event (closure, separation) due within this fraction of a step is taken at the step's end
+EVENT_FRACTION = 1e-3
 #: After an onset (adaptive stepping) the contact step starts 2^GRADED_STEPS times smaller and doubles.
 GRADED_STEPS = 6
 #: Columns of the friction state (one row per friction element): stuck (1/0), sliding direction
@@ -378,6 +380,38 @@ def _band_quadratic(AbT, bw, x):
             acc += AbT[k, i] * x[i] * x[i + off]
         total += acc
     return total
+
+
+@jit
+def _band_bilinear(AbT, bw, x, y):
+    """xᵀ A y for A given by its diagonals (as :func:`_band_quadratic`)."""
+    n = x.size
+    total = 0.0
+    for k in range(2 * bw + 1):
+        off = k - bw
+        acc = 0.0
+        for i in range(max(0, -off), min(n, n - off)):
+            acc += AbT[k, i] * x[i] * y[i + off]
+        total += acc
+    return total
+
+
+@jit
+def _residual(Mb, Cb, Kb, bw, Mi, g, u, v, a, el_dof, el_sign, f, n_el, fr_state, r):
+    """r = M a + C v + K u + Bᵀ f + f_friction + M ι a_g: what the state fails the equation of
+    motion by at one instant (zero for Newmark's end-of-step states; the α-weighted lag of HHT)."""
+    n = u.size
+    for i in range(n):
+        r[i] = Mi[i] * g
+    _band_matvec_add(Mb, bw, a, 1.0, r)
+    _band_matvec_add(Cb, bw, v, 1.0, r)
+    _band_matvec_add(Kb, bw, u, 1.0, r)
+    for c in range(el_dof.shape[0]):
+        fc = f[c] if c < n_el else fr_state[c - n_el, FS_F1]
+        for s in range(2):
+            i = el_dof[c, s]
+            if i >= 0:
+                r[i] += el_sign[c, s] * fc
 
 
 @jit
@@ -1108,7 +1142,7 @@ def _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
 def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, alpha,
                 el_dof, el_sign, el_gap, el_law, el_params, below,
                 fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal,
-                tol, max_iter, max_halvings, locate_onset,
+                tol, max_iter, max_halvings, locate_onset, d_tol,
                 adaptive, steps_per_contact, el_tc_coef, el_tc_exp,
                 out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st,
                 peak_u, peak_drift, peak_aabs, peak_f, peak_d,
@@ -1155,6 +1189,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     el_hf = np.zeros(n_el)
     el_imp = -np.ones(n_el, dtype=np.int64)
     closing = np.zeros(n_el, dtype=np.bool_)
+    separating = np.zeros(n_el, dtype=np.bool_)
     none_off = np.zeros(n_el, dtype=np.bool_)
     open_off = np.zeros(n_el, dtype=np.bool_)
     theta = np.zeros(n_el)
@@ -1228,15 +1263,22 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
     e_damp = 0.0
     w_c = 0.0
     e_fr = 0.0
-    p_in0 = 0.0
-    p_d0 = 0.0
-    p_c0 = 0.0
-    p_f0 = 0.0
+    e_alg = 0.0
+    # the ledger is the scheme's own energy identity (work form, module docstring of newmark.py):
+    # exact for average acceleration; other schemes add their algorithmic term
+    algorithmic = alpha != 0.0 or gamma != 0.5 or beta != 0.25
+    du = np.zeros(n)
+    vs = np.zeros(n)
+    r0 = np.zeros(n)
+    r1 = np.zeros(n)
+    if algorithmic:
+        _residual(Mb, Cb, Kb, bw, Mi, ground_at(ag, ag_dt, 0.0), u, v, a, el_dof, el_sign, f0,
+                  n_el, fr_state, r0)  # fmt: skip
     cap = imp_el.size
     t = 0.0
     # ground acceleration at the step start, carried from the last accepted step end
     g_start = ground_at(ag, ag_dt, 0.0)
-    _store(np.int64(0), t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, MbT, KbT, bw, el_law, el_params,
+    _store(np.int64(0), t, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr, e_alg, MbT, KbT, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st)  # fmt: skip
     for k in range(n_steps):
         t = k * h
@@ -1347,10 +1389,11 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 closing[c] = False
             if locate_onset:
                 # the earliest gap closure inside the step: shorten the step to end there, refining
-                # until the closing gap is shut to within LOCATE_TOL
+                # until the closing gap is shut to within d_tol (a penetration below d_tol is
+                # round-off, never an onset: identical neighbours at zero gap stay apart)
                 th_min = 1.0
                 for c in range(n_el):
-                    if not el_in[c] and d0[c] <= 0.0 < d1[c]:
+                    if not el_in[c] and d0[c] <= d_tol < d1[c]:
                         th, _ = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
                         theta[c] = th
                         th_min = min(th_min, th)
@@ -1376,10 +1419,10 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                         for c in range(n_el):
                             if closing[c]:
                                 d_hi = max(d_hi, d1[c])
-                                if d1[c] > LOCATE_TOL:
+                                if d1[c] > d_tol:
                                     th, _ = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
                                     th_min = min(th_min, th)
-                        if d_hi <= LOCATE_TOL:
+                        if d_hi <= d_tol:
                             break
                     if not ok:
                         halvings += 1
@@ -1391,7 +1434,58 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                         continue
                     # a gap that stopped short of closing closes in a later step
                     for c in range(n_el):
-                        if closing[c] and d1[c] < -LOCATE_TOL:
+                        if closing[c] and d1[c] < -d_tol:
+                            closing[c] = False
+                # the earliest separation inside the step: end the step there as well, so a contact
+                # force acts down to δ = 0 and no further (a step that carried it past the
+                # separation did work the contact never stored: energy out of nothing)
+                th_min = 1.0
+                for c in range(n_el):
+                    separating[c] = False
+                    if el_in[c] and d0[c] > 0.0 and d1[c] < -d_tol:
+                        th, _ = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
+                        theta[c] = th
+                        th_min = min(th_min, th)
+                    else:
+                        theta[c] = 2.0
+                if th_min < 1.0:
+                    for c in range(n_el):
+                        separating[c] = theta[c] <= th_min * (1.0 + 1e-9)
+                    counters[CNT_LOCATED] += 1
+                    for _ in range(8):
+                        hs = max(th_min * hs, 1e-12 * h)
+                        ok, its = _newton(hs, t, u, v, a, f0, M, C, K, Mi, ag, ag_dt, gamma, beta,
+                                          alpha, el_dof, el_sign, el_gap, el_law, el_params, el_in,
+                                          el_v0, el_hd, el_hf, open_off, fr_dof, fr_kind, fr_law,
+                                          fr_params, fr_bw, fr_normal, fr_state, tol, max_iter,
+                                          J_inv, L_h, D_h, h, Mb, Cb, Kb, bw, dense, work, Z, S, u1,
+                                          v1, a1, d1, dd1, f1, kd1, cd1, R, J)  # fmt: skip
+                        counters[CNT_NEWTON] += its
+                        if not ok:
+                            break
+                        d_lo = 1.0
+                        th_min = 1.0
+                        for c in range(n_el):
+                            if separating[c]:
+                                d_lo = min(d_lo, d1[c])
+                                if d1[c] < -d_tol:
+                                    th, _ = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
+                                    th_min = min(th_min, th)
+                        if d_lo >= -d_tol:
+                            break
+                    if not ok:
+                        halvings += 1
+                        counters[CNT_HALVINGS] += 1
+                        if halvings > max_halvings:
+                            counters[CNT_STATUS] = STATUS_NO_CONVERGENCE
+                            return t
+                        scale *= 0.5
+                        continue
+                    for c in range(n_el):
+                        # one still short of separating (δ > d_tol) separates in a later step
+                        if separating[c] and d1[c] > d_tol:
+                            separating[c] = False
+                        if closing[c] and d1[c] < -d_tol:
                             closing[c] = False
             t1 = t + hs
             g1 = g_tg if t1 == t_g else ground_at(ag, ag_dt, t1)
@@ -1524,33 +1618,45 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
                                  fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
             counters[CNT_SUBSTEPS] += 1
-            # energy: trapezoidal rule on the powers
-            p_in1 = 0.0
+            # energy: work of the step-averaged forces on the step's displacement increment
+            g_avg = 0.5 * (g_start + g1)
             for i in range(n):
-                p_in1 -= v1[i] * Mi[i] * g1
-            p_d1 = _band_quadratic(CbT, bw, v1)
-            p_c1 = 0.0
+                du[i] = u1[i] - u[i]
+                vs[i] = v[i] + v1[i]
+                e_in -= du[i] * Mi[i] * g_avg
+            e_damp += 0.5 * _band_bilinear(CbT, bw, du, vs)
             for c in range(n_el):
-                p_c1 += f1[c] * dd1[c]
-            p_f1 = 0.0
+                w_c += 0.5 * (f0[c] + f1[c]) * (d1[c] - d0[c])
             for kk in range(n_fr):
-                p_f1 += fr_state[kk, FS_F1] * v1[fr_dof[kk]]
-            e_in += 0.5 * hs * (p_in0 + p_in1)
-            e_damp += 0.5 * hs * (p_d0 + p_d1)
-            w_c += 0.5 * hs * (p_c0 + p_c1)
-            e_fr += 0.5 * hs * (p_f0 + p_f1)
-            p_in0 = p_in1
-            p_d0 = p_d1
-            p_c0 = p_c1
-            p_f0 = p_f1
+                b = fr_dof[kk]
+                e_fr += 0.5 * (fr_state[kk, FS_F0] + fr_state[kk, FS_F1]) * (u1[b] - u[b])
+            if algorithmic:
+                # ΔE_alg = −Δuᵀ r̄ + h²(β − γ/2) Δaᵀ M ā − h(γ − ½) v̄ᵀ M Δa
+                _residual(Mb, Cb, Kb, bw, Mi, g1, u1, v1, a1, el_dof, el_sign, f1, n_el,
+                          fr_state, r1)  # fmt: skip
+                e_alg_step = 0.0
+                for i in range(n):
+                    e_alg_step -= 0.5 * du[i] * (r0[i] + r1[i])
+                    du[i] = a1[i] - a[i]  # Δa from here on
+                    vs[i] = a[i] + a1[i]
+                e_alg_step += 0.5 * hs * hs * (beta - 0.5 * gamma) * _band_bilinear(MbT, bw, du, vs)
+                for i in range(n):
+                    vs[i] = v[i] + v1[i]
+                e_alg_step -= 0.5 * hs * (gamma - 0.5) * _band_bilinear(MbT, bw, vs, du)
+                e_alg += e_alg_step
+                for i in range(n):
+                    r0[i] = r1[i]
             # impacts: onsets, running maxima, separations
             onset = False
             for c in range(n_el):
-                if not el_in[c] and (closing[c] or d1[c] > 0.0):
-                    if closing[c]:
-                        # the step was shortened to end at this closure
+                # a gap that would close within EVENT_FRACTION of a step closes now: locating it
+                # would take a step so short that its acceleration is lost to round-off
+                soon = dd1[c] > 0.0 and -d1[c] < EVENT_FRACTION * hs * dd1[c]
+                if not el_in[c] and (closing[c] or d1[c] > d_tol or soon):
+                    if closing[c] or soon:
+                        # the step was shortened to end at this closure (or ends just before it)
                         vc = dd1[c]
-                        t_on = t1
+                        t_on = t1 + max(-d1[c], 0.0) / vc
                     else:
                         th, vc = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
                         t_on = t + th * hs
@@ -1578,9 +1684,18 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     imp_val[i_imp, IMP_FMAX] = max(imp_val[i_imp, IMP_FMAX], f1[c])
                     imp_val[i_imp, IMP_DMAX] = max(imp_val[i_imp, IMP_DMAX], d1[c])
                     imp_val[i_imp, IMP_IMPULSE] += 0.5 * hs * (f0[c] + f1[c])
-                    # separation; a grazing closure that never penetrated ends once it recedes
-                    if d1[c] <= 0.0 and (imp_val[i_imp, IMP_DMAX] > 0.0 or dd1[c] < 0.0):
-                        if d0[c] > 0.0:
+                    # separation (located: the step ends there); a grazing closure that never
+                    # penetrated ends once it recedes
+                    soon = dd1[c] < 0.0 and d1[c] < -EVENT_FRACTION * hs * dd1[c]
+                    if (
+                        separating[c]
+                        or soon
+                        or (d1[c] <= 0.0 and (imp_val[i_imp, IMP_DMAX] > 0.0 or dd1[c] < 0.0))
+                    ):
+                        if separating[c] or (soon and d1[c] > 0.0):
+                            vc = dd1[c]
+                            imp_val[i_imp, IMP_END] = t1 + max(d1[c], 0.0) / -vc
+                        elif d0[c] > 0.0:
                             th, vc = hermite_root(d0[c], dd0[c], d1[c], dd1[c], hs)
                             imp_val[i_imp, IMP_END] = t + th * hs
                         else:
@@ -1611,16 +1726,12 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 # restart the next step from equilibrium with that force, not the pre-impact one
                 _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
                                el_hd, el_hf, none_off, d1, dd1, f1, kd1, cd1)  # fmt: skip
-                p_c0 = 0.0
-                for c in range(n_el):
-                    p_c0 += f1[c] * dd1[c]
                 # a stuck slab hit by a jumping contact force may break away at once
                 _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
                              fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
-                if n_fr > 0:
-                    p_f0 = 0.0
-                    for kk in range(n_fr):
-                        p_f0 += fr_state[kk, FS_F1] * v1[fr_dof[kk]]
+                if algorithmic:
+                    _residual(Mb, Cb, Kb, bw, Mi, g1, u1, v1, a1, el_dof, el_sign, f1, n_el,
+                              fr_state, r0)  # fmt: skip
             # accept
             for i in range(n):
                 u[i] = u1[i]
@@ -1650,13 +1761,13 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             g_start = g1
         if (k + 1) % out_every == 0:
             _store((k + 1) // out_every, t_next, u, v, a, ag, ag_dt, d0, f0, e_in, e_damp, w_c, e_fr,
-                   MbT, KbT, bw, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
+                   e_alg, MbT, KbT, bw, el_law, el_params, fr_state, out_u, out_v, out_a, out_ag, out_d, out_f,
                    out_e, out_ff, out_st)  # fmt: skip
     return t
 
 
 @jit
-def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, MbT, KbT, bw, el_law, el_params,
+def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, e_alg, MbT, KbT, bw, el_law, el_params,
            fr_state, out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st):  # fmt: skip
     if row >= out_u.shape[0]:
         return
@@ -1682,3 +1793,4 @@ def _store(row, t, u, v, a, ag, ag_dt, d, f, e_in, e_damp, w_c, e_fr, MbT, KbT, 
     out_e[row, 4] = w_c - stored
     out_e[row, 5] = stored
     out_e[row, 6] = e_fr
+    out_e[row, 7] = e_alg

@@ -20,6 +20,7 @@ ENERGY_TERMS = (
     "contact_dissipated",
     "contact_stored",
     "friction_dissipated",
+    "algorithmic",
 )
 
 #: Fields of :attr:`RawResult.impacts`, one array per field, one entry per impact.
@@ -51,7 +52,9 @@ class RawResult:
     output grid: ``friction_force`` [N] (resisting, with the sign of the base velocity; the
     reaction of a stuck slab) and ``stick`` (1 while a Coulomb slab sticks, else 0). The strain
     energy includes a friction pendulum's restoring potential ½ (W/R) u_b²; ``friction_dissipated``
-    is the work of the friction forces ∫ f u̇_b dt.
+    is the work of the friction forces ∫ f u̇_b dt; ``algorithmic`` the energy the time-stepping
+    scheme itself removes (zero for average acceleration and for the ivp path; HHT's numerical
+    damping; see :mod:`pounding.integrators.newmark`).
     """
 
     time: np.ndarray

@@ -420,6 +420,7 @@ class _Model:
                 y[self.i_work] - stored_sum,
                 stored_sum,
                 y[self.i_fric] if self.nf else np.zeros(t.size),
+                np.zeros(t.size),  # algorithmic: none, the integration error is controlled instead
             )
         )
         below = np.where(self.below >= 0, u[:, np.maximum(self.below, 0)], 0.0)
