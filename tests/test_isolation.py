@@ -539,7 +539,7 @@ def test_schema_of_an_isolated_result_and_netcdf_round_trip(tmp_path):
     system = assemble([_block(base), ShearBuilding.uniform("B", 2, period=0.3, mass=1e5)])
     ds = simulate(system, sine_pulse(amplitude=4.0, period=0.5, duration=1.0, dt=0.01))
     assert list(ds["term"].values) == list(ENERGY_TERMS)
-    assert ENERGY_TERMS[-1] == "friction_dissipated"
+    assert "friction_dissipated" in ENERGY_TERMS
     for name in ("base_displacement", "base_velocity", "friction_force", "stick"):
         assert ds[name].dims == ("time", "building"), name
         assert {"units", "long_name"} <= set(ds[name].attrs), name

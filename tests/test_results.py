@@ -64,6 +64,7 @@ def test_schema_has_the_issue_names_and_dims(pair):
         "contact_dissipated",
         "contact_stored",
         "friction_dissipated",
+        "algorithmic",
     ]
     assert "energy_balance_error" in pair.attrs
 

@@ -1506,17 +1506,17 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                         sg = 1.0 if p1 > 0.0 else -1.0
                         g_end = _friction_gap(kk, b, fr_state, fr_params, fr_normal, v1, p1, sg)
                         if g_end < 0.0:
-                            g_start = fr_params[kk, 0] * fr_normal[kk] - sg * fr_state[kk, FS_F0]
-                            th = g_start / (g_start - g_end)
+                            fg_start = fr_params[kk, 0] * fr_normal[kk] - sg * fr_state[kk, FS_F0]
+                            th = fg_start / (fg_start - g_end)
                             if th < th_ev:
                                 th_ev = th
                                 ev = kk
                     else:
                         dr = fr_state[kk, FS_DIR]
-                        g_start = dr * v[b]
+                        fg_start = dr * v[b]
                         g_end = dr * v1[b]
                         if g_end < 0.0:
-                            th = first_drop(max(g_start, 0.0), dr * a[b], g_end, dr * a1[b], hs)
+                            th = first_drop(max(fg_start, 0.0), dr * a[b], g_end, dr * a1[b], hs)
                             if th < th_ev:
                                 th_ev = th
                                 ev = kk
