@@ -138,7 +138,7 @@ def main() -> None:
     payload = {"machine": machine(), "free_impact": free_impacts(), "zero_gap": zero_gap()}
     if args.elcentro.is_file():
         payload["row"] = row(args.elcentro)
-    print(write_json("impact_fidelity", payload))
+    print(write_json("impact_fidelity.json", payload))
 
 
 if __name__ == "__main__":
