@@ -307,6 +307,25 @@ def open_result(path: str | Path) -> xr.Dataset:
         return ds.load()
 
 
+def result_kind(ds: xr.Dataset) -> str:
+    """``"analysis"``, ``"study"`` or ``"separation"``: which verb made the Dataset.
+
+    Raises ``ValueError`` for a Dataset that is none of them.
+    """
+    kind = ds.attrs.get("pounding_kind")
+    if kind == "study":
+        return "study"
+    # files written before the kind attribute was recorded are recognised by their variables
+    if kind == "separation" or (kind is None and "required_gap_statistic" in ds):
+        return "separation"
+    if "displacement" in ds and "time" in ds.dims:
+        return "analysis"
+    raise ValueError(
+        "the Dataset is none of an analysis (pounding run), a study (pounding study) or a "
+        "separation check (pounding separation)"
+    )
+
+
 @xr.register_dataset_accessor("pounding")
 class PoundingAccessor:
     """Derived quantities of a pounding result: ``ds.pounding.impacts()``, ``ds.pounding.summary()``."""
