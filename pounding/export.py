@@ -62,7 +62,9 @@ def _frame(ds: xr.Dataset, names: Sequence[str], index: Sequence[str]) -> pd.Dat
     return df.rename(columns={c: header(c, _units(ds, c)) for c in df.columns})
 
 
-def _level_frame(ds: xr.Dataset, index: Sequence[str], floor_vars: list[str], story_vars: list[str]):
+def _level_frame(
+    ds: xr.Dataset, index: Sequence[str], floor_vars: list[str], story_vars: list[str]
+):
     """Floor and story variables side by side; story i is the story below floor i."""
     parts = [ds[floor_vars]] if floor_vars else []
     if story_vars:
@@ -309,11 +311,11 @@ def export(
                 f"({', '.join(chosen)}); give a directory or one --table"
             )
         path.parent.mkdir(parents=True, exist_ok=True)
-        next(iter(chosen.values())).to_csv(path, index=False, float_format="%.17g")
+        next(iter(chosen.values())).to_csv(path, index=False)
         return [path]
     path.mkdir(parents=True, exist_ok=True)
     written = []
     for name, df in chosen.items():
-        df.to_csv(path / f"{name}.csv", index=False, float_format="%.17g")
+        df.to_csv(path / f"{name}.csv", index=False)
         written.append(path / f"{name}.csv")
     return written
