@@ -242,7 +242,7 @@ def tables(
     for n in names or ():
         if n not in allowed:
             raise ValueError(
-                f"table: {n!r} is not a table of a {kind} result; allowed: {', '.join(allowed)}"
+                f"table: {n!r} is not a table of the {kind} result; allowed: {', '.join(allowed)}"
             )
     if names and "histories" in names and histories is None:
         histories = "long"
