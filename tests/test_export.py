@@ -268,3 +268,15 @@ def test_cli_export_directory_and_unknown_table(analysis, tmp_path):
     assert list(pd.read_csv(one)["floor"]) == [1, 2, 1, 2, 3]
     res = runner.invoke(app, ["export", str(path), "-o", str(tmp_path / "all.csv")])
     assert res.exit_code == 2 and "one --table" in res.output
+
+
+def test_result_kind_tells_the_three_results_apart(analysis, study, separation):
+    from pounding.results import result_kind
+
+    assert [result_kind(d) for d in (analysis, study, separation)] == [
+        "analysis",
+        "study",
+        "separation",
+    ]
+    with pytest.raises(ValueError, match="none of an analysis"):
+        tables(xr.Dataset({"x": ("t", [1.0])}))
