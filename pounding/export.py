@@ -36,6 +36,7 @@ Histories = Literal["long", "wide"] | None
 
 _EXCEL_MISSING = "Excel export needs openpyxl: pip install 'pounding[excel]'"
 HISTORY_FORMS = ("long", "wide", "none")
+_EXCEL_ROWS = 1_048_576  # rows of a sheet, the header included
 
 
 def header(name: str, units: str | None) -> str:
@@ -299,6 +300,12 @@ def export(
             raise ImportError(_EXCEL_MISSING) from None
     chosen = tables(ds, names=names, histories=histories)
     if format == "xlsx":
+        for name, df in chosen.items():
+            if len(df) >= _EXCEL_ROWS:
+                raise ValueError(
+                    f"table {name}: {len(df)} rows, more than an Excel sheet holds "
+                    f"({_EXCEL_ROWS - 1}); use --histories wide or csv"
+                )
         path.parent.mkdir(parents=True, exist_ok=True)
         with pd.ExcelWriter(path, engine="openpyxl") as xw:
             for name, df in chosen.items():
