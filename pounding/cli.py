@@ -43,8 +43,7 @@ def _fail(message: str) -> None:
 def _user_error_types() -> tuple[type[BaseException], ...]:
     from pounding.errors import PoundingError
 
-    # ValueError until every library module raises PoundingInputError for bad input
-    return (PoundingError, UserError, ValueError)
+    return (PoundingError, UserError)
 
 
 def user_errors(func: Callable[..., Any]) -> Callable[..., Any]:
@@ -155,6 +154,7 @@ def run(
     output_dt: float = typer.Option(None, "--output-dt", help="Override the output step [s]."),
 ) -> None:
     """Run one analysis: print a summary (periods, peaks, impacts, energy balance) and write the Dataset."""
+    _netcdf_output(output)
     from pounding.case import load_case
     from pounding.results import save
     from pounding.simulate import simulate
@@ -351,6 +351,7 @@ def separation(
 ) -> None:
     """Required seismic gap: exact from time histories, spectral ABS/SRSS/DDC, ASCE 7 and EC8 rules,
     probability of pounding over a record suite; one comparison table."""
+    _netcdf_output(output)
     from pounding.results import save
     from pounding.separation import (
         SeparationOptions,
@@ -462,6 +463,7 @@ def study(
     ),
 ) -> None:
     """Run a comparative study: every combination of the [study] axes, resumable, in parallel."""
+    _netcdf_output(output)
     import signal
     import time
 
@@ -752,6 +754,77 @@ def _skip_dask() -> None:
     types and to choose a file lock: about 0.5 s of a one-analysis run. A ``None`` entry in
     sys.modules makes ``import dask`` fail at once, which xarray reads as "not installed"."""
     sys.modules.setdefault("dask", None)  # type: ignore[arg-type]
+
+
+# --- export verb ---
+
+
+def _netcdf_output(output: str | None) -> None:
+    """Refuse ``-o`` paths that are not NetCDF before anything runs (csv/xlsx go through export)."""
+    from pathlib import Path
+
+    if output and Path(output).suffix.lower() != ".nc":
+        raise UserError(
+            f"-o {output}: results are written as NetCDF (.nc); use `pounding export` for csv/xlsx"
+        )
+
+
+_EXPORT_TABLES = typer.Option(
+    None,
+    "--table",
+    help="Table to write (repeatable; default all). run: peaks, contacts, impacts, energy, "
+    "histories; study: summary, buildings, peaks, contacts; separation: comparison, probability.",
+)
+
+
+@app.command("export")
+@user_errors
+def export_cmd(
+    result: str = typer.Argument(
+        ..., help="Result file (.nc) of pounding run, study or separation."
+    ),
+    output: str = typer.Option(
+        ...,
+        "-o",
+        "--output",
+        help="OUT.xlsx (one sheet per table), OUT.csv (one --table) or a directory (NAME.csv per table).",
+    ),
+    format: str = typer.Option(
+        None, "--format", help="csv or xlsx (default: from OUT's extension; csv for a directory)."
+    ),
+    table: list[str] = _EXPORT_TABLES,
+    histories: str = typer.Option(
+        "long",
+        "--histories",
+        help="Time histories of an analysis: long (variable, location, units, time, value rows), "
+        "wide (one column per variable and location) or none.",
+    ),
+) -> None:
+    r"""Write a result's tables as CSV or Excel. Values in SI; every column header carries its
+    unit, as `peak_displacement [m]`."""
+    from pounding.export import HISTORY_FORMS, export
+    from pounding.results import open_result
+
+    if histories not in HISTORY_FORMS:
+        raise UserError(f"--histories {histories}; allowed: {', '.join(HISTORY_FORMS)}")
+    if format is not None and format not in ("csv", "xlsx"):
+        raise UserError(f"--format {format}; allowed: csv, xlsx")
+    ds = open_result(result)
+    try:
+        written = export(
+            ds,
+            output,
+            format=format,  # type: ignore[arg-type]
+            names=table or None,
+            histories=None if histories == "none" else histories,  # type: ignore[arg-type]
+        )
+    except ImportError as exc:
+        raise UserError(str(exc)) from None
+    for path in written:
+        typer.echo(f"  written {path}")
+
+
+# --- end export verb ---
 
 
 def main() -> None:

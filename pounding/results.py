@@ -315,6 +315,25 @@ def open_result(path: str | Path) -> xr.Dataset:
         return ds.load()
 
 
+def result_kind(ds: xr.Dataset) -> str:
+    """``"analysis"``, ``"study"`` or ``"separation"``: which verb made the Dataset.
+
+    Raises :class:`~pounding.errors.PoundingInputError` for a Dataset that is none of them.
+    """
+    kind = ds.attrs.get("pounding_kind")
+    if kind == "study":
+        return "study"
+    # files written before the kind attribute was recorded are recognised by their variables
+    if kind == "separation" or (kind is None and "required_gap_statistic" in ds):
+        return "separation"
+    if "displacement" in ds and "time" in ds.dims:
+        return "analysis"
+    raise PoundingInputError(
+        "the Dataset is none of an analysis (pounding run), a study (pounding study) or a "
+        "separation check (pounding separation)"
+    )
+
+
 # NetCDF-4 files are HDF5 files: their first 8 bytes (the HDF5 format signature)
 _HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 

@@ -67,6 +67,7 @@ from pounding import records
 from pounding._version import __version__
 from pounding.case import Case, CaseError, case_from_dict, read_case_file
 from pounding.contact.laws import get_contact_law
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.results import ATTRS
 from pounding.simulate import simulate
@@ -963,7 +964,7 @@ def run_study(
         plan = study
     else:
         if store is None:
-            raise ValueError("run_study(study, store): a store directory is required")
+            raise PoundingInputError("run_study(study, store): a store directory is required")
         plan = plan_study(study, store, retry_failed=retry_failed)
     todo = [plan.tasks[k] for k in plan.todo]
     done = failed = 0
@@ -1260,10 +1261,12 @@ def histories(ds: xr.Dataset, store: str | Path | None = None, **selection: Any)
     """
     key = ds["run_key"].sel(**selection)
     if key.ndim:
-        raise ValueError(
+        raise PoundingInputError(
             f"histories: select one value on every axis; still free: {', '.join(key.dims)}"
         )
     run = open_run(store or ds.attrs["store"], str(key.item()))
     if not run.attrs.get("has_histories"):
-        raise ValueError("histories: this run has no time histories (keep_histories = false)")
+        raise PoundingInputError(
+            "histories: this run has no time histories (keep_histories = false)"
+        )
     return run

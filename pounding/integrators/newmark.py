@@ -49,6 +49,7 @@ import math
 import numpy as np
 
 from pounding.contact.laws import LAWS_BY_ID
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion, ground_velocity
 from pounding.integrators import _kernels as kn
 from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, ConvergenceError, RawResult
@@ -78,7 +79,7 @@ class HHT(Newmark):
 
     def __init__(self, alpha: float = -0.05) -> None:
         if not (-1.0 / 3.0 <= alpha <= 0.0):
-            raise ValueError(f"hht alpha = {alpha}; allowed: -1/3 <= alpha <= 0")
+            raise PoundingInputError(f"hht alpha = {alpha}; allowed: -1/3 <= alpha <= 0")
         self.alpha = float(alpha)
         self.gamma = 0.5 - self.alpha
         self.beta = 0.25 * (1.0 - self.alpha) ** 2
@@ -102,7 +103,7 @@ def get_scheme(scheme: str | Newmark | type[Newmark], **options: float) -> Newma
     try:
         cls = SCHEMES[str(scheme)]
     except KeyError:
-        raise ValueError(
+        raise PoundingInputError(
             f"unknown Newmark scheme {scheme!r}; allowed: {', '.join(SCHEMES)}"
         ) from None
     return cls(**options)
@@ -202,7 +203,7 @@ def integrate_newmark(
     """
     sch = get_scheme(scheme)
     if not (dt > 0 and math.isfinite(dt)):
-        raise ValueError(f"dt = {dt}; allowed: a positive number [s]")
+        raise PoundingInputError(f"dt = {dt}; allowed: a positive number [s]")
     el = system.elements
     fr = system.friction
     n, n_el, n_fr = system.n_dof, len(el), len(fr)

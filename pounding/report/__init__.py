@@ -42,6 +42,7 @@ from pounding.contact.calibrate import effective_restitution
 from pounding.contact.laws import get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import INTENSITY_MEASURES, GroundMotion, intensity_measures
+from pounding.results import result_kind
 from pounding.spectra import response_spectra, response_spectrum
 from pounding.units import G
 
@@ -871,12 +872,6 @@ def _study_report(ds: xr.Dataset, store: Path | None) -> Report:
     return Report(str(ds.attrs.get("title") or "Pounding study"), "study", sections, meta)
 
 
-def _is_separation(ds: xr.Dataset) -> bool:
-    # files written before the kind attribute was recorded are recognised by their variables
-    kind = ds.attrs.get("pounding_kind")
-    return kind == "separation" or (kind is None and "required_gap_statistic" in ds)
-
-
 def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:
     """The report of an analysis (from :func:`pounding.simulate`), a study, or a separation check
     (from :func:`pounding.separation.separation_analysis`).
@@ -884,18 +879,17 @@ def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:
     ``store`` is the study's run store (default the one recorded in the Dataset) for the kept
     time histories.
     """
+    try:
+        kind = result_kind(ds)
+    except ValueError as exc:
+        raise PoundingInputError(f"report: {exc}") from None
     with matplotlib.rc_context(_RC):
-        if ds.attrs.get("pounding_kind") == "study":
+        if kind == "study":
             path = Path(store) if store is not None else Path(ds.attrs.get("store", ""))
             return _study_report(ds, path if str(path) else None)
-        if _is_separation(ds):
+        if kind == "separation":
             return _separation_report(ds)
-        if "displacement" in ds and "time" in ds.dims:
-            return _analysis_report(ds)
-    raise PoundingInputError(
-        "report: the Dataset is none of an analysis (pounding run), a study (pounding study) or a "
-        "separation check (pounding separation)"
-    )
+        return _analysis_report(ds)
 
 
 # --------------------------------------------------------------------------------------------------
