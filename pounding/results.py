@@ -292,11 +292,36 @@ def energy_balance_error(energy: np.ndarray) -> float:
 
 
 def save(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write a result to NetCDF-4 (h5netcdf engine)."""
+    """Write a result to NetCDF-4 (an HDF5 file that xarray reads with the h5netcdf engine).
+
+    Float, integer and string variables whose dimensions all have coordinates (every result
+    pounding makes) are written by :mod:`pounding._netcdf` on h5py directly, ~10x faster than
+    ``to_netcdf``; anything else (other dtypes, an encoding asking for compression, packing or
+    another dtype) goes through ``ds.to_netcdf(engine="h5netcdf")``."""
+    from pounding import _netcdf
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    ds.to_netcdf(path, engine="h5netcdf", invalid_netcdf=False)
+    variables = {
+        str(name): (tuple(map(str, v.dims)), np.asarray(v.values), v.attrs)
+        for name, v in ds.variables.items()
+    }
+    if _netcdf.supported(variables) and not any(map(_encoded, ds.variables.values())):
+        _netcdf.write(path, variables, map(str, ds.coords), ds.attrs)
+    else:
+        ds.to_netcdf(path, engine="h5netcdf", invalid_netcdf=False)
     return path
+
+
+def _encoded(var: xr.Variable) -> bool:
+    """True when ``var.encoding`` changes what is stored (packing, another dtype, compression):
+    left to xarray's encoder."""
+    enc = var.encoding
+    return (
+        any(k in enc for k in ("scale_factor", "add_offset", "units", "calendar"))
+        or any(enc.get(k) for k in ("zlib", "compression", "szip"))
+        or ("dtype" in enc and np.dtype(enc["dtype"]) != var.dtype and var.dtype.kind != "U")
+    )
 
 
 def open_result(path: str | Path) -> xr.Dataset:
