@@ -816,7 +816,8 @@ def main() -> None:
     """Console-script entry point."""
     import os
 
-    if sys.argv[1:2] == ["run"]:  # only the console script's own process, never a library user's
+    one_run = sys.argv[1:2] == ["run"]
+    if one_run:  # only the console script's own process, never a library user's
         _skip_dask()
     try:
         app()
@@ -828,6 +829,10 @@ def main() -> None:
             exc.code == 130
         ):  # an interrupted study: finished runs are stored, nothing left to wait for
             _exit_now(130)
+        if one_run and isinstance(exc.code, int | None):
+            # the result is written and closed, the summary printed: skip the interpreter's
+            # teardown of numba, llvmlite and numpy's modules, ~0.3 s of a ~1 s run
+            _exit_now(exc.code or 0)
         raise
     except BrokenPipeError:
         # the reader (e.g. `head`) went away: stop quietly, without a second error at exit

@@ -100,7 +100,8 @@ def test_run_console_process_loads_no_xarray_pandas_or_scipy_linalg(tmp_path):
     # Flores case: a Hunt-Crossley law with a restitution coefficient needs scipy.optimize)
     out = tmp_path / "out.nc"
     code = (
-        "import sys\nfrom pounding.cli import main\n"
+        "import sys\nimport pounding.cli\nfrom pounding.cli import main\n"
+        "pounding.cli._exit_now = lambda code: None\n"  # the console process ends here
         f"sys.argv = ['pounding', 'run', {str(ROOT / 'examples' / 'three_vs_eight_story.toml')!r}, "
         f"'-o', {str(out)!r}]\n"
         "try:\n    main()\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
@@ -148,3 +149,32 @@ def test_run_writes_and_prints_what_simulate_and_save_give(tmp_path):
     for name, b in s["buildings"].items():
         assert f"{b['T1']:7.3f}" in res.output and f"  {name:<12s}" in res.output
     assert f"{100 * s['energy_balance_error']:.3g} % of the input energy" in res.output
+
+
+def test_run_console_process_ends_at_once_with_its_file_written(tmp_path):
+    # main() ends `pounding run` with os._exit (no interpreter teardown): the exit code, the
+    # summary on stdout and the file must all be complete
+    from pounding import open_result
+
+    out = tmp_path / "sub" / "out.nc"
+    cmd = [sys.executable, "-c", "from pounding.cli import main; main()"]
+    res = subprocess.run(
+        [*cmd, "run", str(ROOT / "examples" / "two_sdof.toml"), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        timeout=300,
+    )
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.rstrip().endswith(f"written {out}")
+    assert open_result(out)["displacement"].attrs["units"] == "m"
+    bad = subprocess.run(
+        [*cmd, "run", str(tmp_path / "missing.toml")],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        timeout=300,
+    )
+    assert bad.returncode == 2 and bad.stdout.count("\n") + bad.stderr.count("\n") == 1
