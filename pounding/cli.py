@@ -12,6 +12,7 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable
 from functools import wraps
+from pathlib import Path
 from typing import Any
 
 import typer
@@ -99,16 +100,18 @@ def _fmt_si(value: float, unit: str) -> str:
     return f"{value:.4g} {unit}"
 
 
-def _print_summary(ds: Any, path: str | None) -> None:
-    from pounding.results import PoundingAccessor  # noqa: F401  (registers ds.pounding)
+def _print_summary(result: Any, path: str | None) -> None:
+    """Print the summary of a :class:`pounding._schema.ResultVariables` (no xarray needed)."""
+    from pounding._schema import summary
 
-    s = ds.pounding.summary()
-    title = ds.attrs.get("title") or "analysis"
+    variables, attrs = result.variables, result.attrs
+    s = summary(variables, attrs)
+    title = attrs.get("title") or "analysis"
     typer.echo(f"{title}")
     typer.echo(
-        f"  record {ds.attrs.get('record')}, method {ds.attrs.get('method')}, "
-        f"dt {ds.attrs.get('dt'):.3g} s, output dt {ds.attrs.get('output_dt'):.3g} s, "
-        f"duration {ds.attrs.get('duration'):.4g} s"
+        f"  record {attrs.get('record')}, method {attrs.get('method')}, "
+        f"dt {attrs.get('dt'):.3g} s, output dt {attrs.get('output_dt'):.3g} s, "
+        f"duration {attrs.get('duration'):.4g} s"
     )
     typer.echo("  building      T1 [s]   peak disp [m]   peak drift ratio   peak abs acc [m/s^2]")
     for name, b in s["buildings"].items():
@@ -129,8 +132,9 @@ def _print_summary(ds: Any, path: str | None) -> None:
         base = b.get("peak_base_displacement")
         if base is not None and base == base:  # isolated buildings only (NaN otherwise)
             typer.echo(f"  {name}: peak base (bearing) displacement {base:.4g} m")
-    if "friction_dissipated" in ds["term"].values:
-        fr = float(ds["energy"].sel(term="friction_dissipated").isel(time=-1))
+    terms = list(variables["term"][1])
+    if "friction_dissipated" in terms:
+        fr = float(variables["energy"][1][-1, terms.index("friction_dissipated")])
         if fr > 0.0:
             typer.echo(f"  energy dissipated by bearing friction {fr:.4g} J")
     typer.echo(
@@ -155,9 +159,10 @@ def run(
 ) -> None:
     """Run one analysis: print a summary (periods, peaks, impacts, energy balance) and write the Dataset."""
     _netcdf_output(output)
+    # plain arrays, no xr.Dataset: xarray and pandas would be ~0.3 s of a ~1 s run
+    from pounding import _netcdf
     from pounding.case import load_case
-    from pounding.results import save
-    from pounding.simulate import simulate
+    from pounding.simulate import simulate_variables
 
     loaded = load_case(case)
     overrides = {
@@ -166,11 +171,15 @@ def run(
         if v is not None
     }
     if (method or loaded.analysis.method) != "ivp":
+        _preload_cython_blas()
         _compile_notice()
-    ds = simulate(loaded, **overrides)
+    result = simulate_variables(loaded, **overrides)
+    _link_cython_blas()
     if output:
-        save(ds, output)
-    _print_summary(ds, output)
+        # the writer of results.save, given the arrays results.to_dataset would wrap
+        Path(output).parent.mkdir(parents=True, exist_ok=True)
+        _netcdf.write(output, result.variables, result.coords, result.attrs)
+    _print_summary(result, output)
 
 
 laws_app = typer.Typer(
@@ -747,6 +756,55 @@ def warmup() -> None:
     typer.echo(f"numerical kernels {state} in {seconds:.1f} s; cache in {cache_dir()}")
 
 
+def _preload_cython_blas() -> None:
+    """Load scipy's ``cython_blas`` extension without running ``scipy/linalg/__init__``.
+
+    numba's target initialisation (the first call of any kernel) imports
+    ``scipy.linalg.cython_blas`` only to check that BLAS exists; importing it the ordinary way runs
+    ``scipy.linalg``'s package ``__init__`` first, ~0.15 s of a ~1 s warm run that never uses
+    scipy.linalg. With the extension already in ``sys.modules`` the check finds it there. Only for
+    the ``pounding run`` console process on the Newmark/HHT path; :func:`_link_cython_blas` makes
+    it an attribute of ``scipy.linalg`` should that be imported, also later."""
+    import importlib.machinery
+    import importlib.util
+
+    name = "scipy.linalg.cython_blas"
+    if "scipy.linalg" in sys.modules or name in sys.modules:
+        return
+    try:
+        import scipy
+    except ImportError:  # numba then runs without BLAS, as it would anyway
+        return
+    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+        path = Path(scipy.__path__[0], "linalg", "cython_blas" + suffix)
+        if path.is_file():
+            spec = importlib.util.spec_from_file_location(name, path)
+            if spec is None or spec.loader is None:
+                return
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[name] = module
+            try:
+                spec.loader.exec_module(module)
+            except Exception:  # pragma: no cover - fall back to the ordinary import
+                del sys.modules[name]
+            return
+
+
+def _link_cython_blas() -> None:
+    """After :func:`_preload_cython_blas` and numba's target initialisation: an ``import
+    scipy.linalg`` does not bind an already-loaded submodule as its attribute. Bind it when
+    scipy.linalg is loaded by now, else drop the entry so that a later import takes the ordinary
+    path (CPython then returns the same extension module and binds it)."""
+    linalg = sys.modules.get("scipy.linalg")
+    blas = sys.modules.get("scipy.linalg.cython_blas")
+    if blas is None:
+        return
+    if linalg is None:
+        del sys.modules["scipy.linalg.cython_blas"]
+    elif not hasattr(linalg, "cython_blas"):
+        linalg.cython_blas = blas
+
+
 def _skip_dask() -> None:
     """Keep xarray from importing dask and distributed in a process that runs no dask code.
 
@@ -831,7 +889,8 @@ def main() -> None:
     """Console-script entry point."""
     import os
 
-    if sys.argv[1:2] == ["run"]:  # only the console script's own process, never a library user's
+    one_run = sys.argv[1:2] == ["run"]
+    if one_run:  # only the console script's own process, never a library user's
         _skip_dask()
     try:
         app()
@@ -839,10 +898,12 @@ def main() -> None:
         typer.echo("interrupted", err=True)
         _exit_now(130)
     except SystemExit as exc:
-        if (
-            exc.code == 130
-        ):  # an interrupted study: finished runs are stored, nothing left to wait for
+        if exc.code == 130:  # an interrupted study: finished runs are stored, nothing to wait for
             _exit_now(130)
+        if one_run and isinstance(exc.code, int | None):
+            # the result is written and closed, the summary printed: skip the interpreter's
+            # teardown of numba, llvmlite and numpy's modules, ~0.3 s of a ~1 s run
+            _exit_now(exc.code or 0)
         raise
     except BrokenPipeError:
         # the reader (e.g. `head`) went away: stop quietly, without a second error at exit

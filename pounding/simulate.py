@@ -26,11 +26,11 @@ from __future__ import annotations
 import dataclasses
 import datetime
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
+from pounding._schema import ResultVariables, result_variables
 from pounding._version import __version__
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
@@ -42,8 +42,10 @@ from pounding.integrators.newmark import (
     get_scheme,
     integrate_newmark,
 )
-from pounding.results import build_dataset
 from pounding.system import PoundingSystem
+
+if TYPE_CHECKING:  # xarray (and pandas) cost ~0.3 s to import: only when a Dataset is built
+    import xarray as xr
 
 #: Integration methods by name: the Newmark family (compiled loop) and ``ivp`` (scipy solve_ivp).
 METHODS = (*SCHEMES, "ivp")
@@ -206,6 +208,18 @@ def simulate(
     **options
         Any field of :class:`AnalysisOptions` (``method``, ``dt``, ``output_dt``, ``duration``, ...).
     """
+    from pounding.results import to_dataset
+
+    return to_dataset(simulate_variables(case_or_system, ground, **options))
+
+
+def simulate_variables(
+    case_or_system: Any,
+    ground: GroundMotion | None = None,
+    **options: Any,
+) -> ResultVariables:
+    """:func:`simulate` without building the ``xr.Dataset``: the same result as plain arrays
+    (for the ``pounding run`` console process, which then needs neither xarray nor pandas)."""
     system, ground, opts, title = _resolve(case_or_system, ground, options)
     raw, info = run(system, ground, opts)
     provenance = {
@@ -217,7 +231,7 @@ def simulate(
         "method": opts.method,
         **info,
     }
-    return build_dataset(system, ground.starting_from_rest(), raw, provenance=provenance)
+    return result_variables(system, ground.starting_from_rest(), raw, provenance=provenance)
 
 
 def step_plan(

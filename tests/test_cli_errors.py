@@ -65,7 +65,7 @@ def test_a_bug_shows_its_traceback_and_asks_to_report_it(tmp_path, monkeypatch):
     def broken(*args, **kwargs):
         raise TypeError("an internal mistake")
 
-    monkeypatch.setattr(_SIMULATE, "simulate", broken)
+    monkeypatch.setattr(_SIMULATE, "simulate_variables", broken)  # what `run` calls
     res = runner.invoke(app, ["run", str(TWO_SDOF)])
     assert res.exit_code == 1
     assert "Traceback" in res.output and "TypeError: an internal mistake" in res.output
@@ -76,7 +76,7 @@ def test_a_key_error_from_a_bug_is_not_taken_for_a_user_error(monkeypatch):
     def broken(*args, **kwargs):
         return {}["missing"]
 
-    monkeypatch.setattr(_SIMULATE, "simulate", broken)
+    monkeypatch.setattr(_SIMULATE, "simulate_variables", broken)  # what `run` calls
     res = runner.invoke(app, ["run", str(TWO_SDOF)])
     assert res.exit_code == 1 and "KeyError" in res.output
 

@@ -137,3 +137,48 @@ def test_netcdf_round_trip(pair, tmp_path):
     assert back.attrs["energy_balance_error"] == pytest.approx(pair.attrs["energy_balance_error"])
     with pytest.raises(FileNotFoundError):
         open_result(tmp_path / "missing.nc")
+
+
+def test_save_writes_what_to_netcdf_writes(pair, tmp_path):
+    # results.save writes NetCDF-4 with h5py directly: the file must read back identical to the
+    # Dataset and to the one xarray's own h5netcdf writer makes, with netCDF-4's dimension scales
+    import h5py
+
+    path = save(pair, tmp_path / "fast.nc")
+    pair.to_netcdf(tmp_path / "xr.nc", engine="h5netcdf")
+    fast, ref = open_result(path), open_result(tmp_path / "xr.nc")
+    xr.testing.assert_identical(fast, pair)
+    xr.testing.assert_identical(fast, ref)
+    assert set(fast.coords) == set(pair.coords)  # non-dimension coordinates stay coordinates
+    with h5py.File(path) as f:
+        dimids = [int(f[d].attrs["_Netcdf4Dimid"]) for d in pair.dims]
+        assert dimids == list(range(len(pair.dims)))
+        assert f["time"].is_scale and f["term"].is_scale
+        assert [d[0].name for d in f["displacement"].dims] == [
+            "/time",
+            "/building",
+            "/floor",
+        ]
+        assert list(f["drift"].attrs["_Netcdf4Coordinates"]) == [0, 1, 3]
+        assert f.attrs["_NCProperties"].startswith(b"version=2,")
+        assert h5py.check_string_dtype(f["contact_law"].dtype).encoding == "utf-8"
+
+
+def test_save_leaves_other_datasets_to_xarray(tmp_path):
+    # a dtype the direct writer does not handle (bool), a compression encoding and a dimension
+    # without coordinates all go through to_netcdf and still round-trip
+    ds = xr.Dataset(
+        {
+            "flag": ("time", np.array([True, False]), {"long_name": "flag"}),
+            "x": ("time", np.array([1.0, 2.0]), {"units": "m", "long_name": "x"}),
+            "y": ("n", np.arange(3.0), {"units": "m", "long_name": "y"}),
+        },
+        coords={"time": [0.0, 0.1]},
+    )
+    for case in (ds, ds.drop_vars("flag")):
+        back = open_result(save(case, tmp_path / "other.nc"))
+        xr.testing.assert_identical(back, case)
+    packed = ds.drop_vars(["flag", "y"])
+    packed["x"].encoding = {"zlib": True, "dtype": "float32"}
+    back = open_result(save(packed, tmp_path / "packed.nc"))
+    assert back["x"].dtype == np.float32 and back["x"].encoding["zlib"]

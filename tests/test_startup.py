@@ -92,3 +92,89 @@ def test_warmup_verb_reports_time_and_cache(monkeypatch):
     res = CliRunner().invoke(app, ["warmup"])
     assert res.exit_code == 0, res.output
     assert "already cached: loaded in 0.2 s; cache in " in res.output
+
+
+def test_run_console_process_loads_no_xarray_pandas_or_scipy_linalg(tmp_path):
+    # `pounding run` writes and summarises plain arrays (no xr.Dataset) and loads scipy's
+    # cython_blas for numba without scipy.linalg's package: ~0.45 s of a ~1 s warm run (the
+    # Flores case: a Hunt-Crossley law with a restitution coefficient needs scipy.optimize)
+    out = tmp_path / "out.nc"
+    code = (
+        "import sys\nimport pounding.cli\nfrom pounding.cli import main\n"
+        "pounding.cli._exit_now = lambda code: None\n"  # the console process ends here
+        f"sys.argv = ['pounding', 'run', {str(ROOT / 'examples' / 'three_vs_eight_story.toml')!r}, "
+        f"'-o', {str(out)!r}]\n"
+        "try:\n    main()\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
+        "import json\nmods = {m: m in sys.modules for m in "
+        "('xarray', 'pandas', 'scipy.linalg', 'h5netcdf', 'scipy.linalg.cython_blas')}\n"
+        "import scipy.linalg\n"  # still importable afterwards, the preloaded module bound
+        "assert scipy.linalg.cython_blas is sys.modules['scipy.linalg.cython_blas']\n"
+        "assert float(scipy.linalg.solve([[2.0]], [1.0])[0]) == 0.5\n"
+        "print(json.dumps(mods))"
+    )
+    res = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        timeout=300,
+    )
+    assert res.returncode == 0, res.stderr
+    mods = json.loads(res.stdout.strip().splitlines()[-1])
+    assert mods == {
+        "xarray": False,
+        "pandas": False,
+        "scipy.linalg": False,
+        "h5netcdf": False,
+        "scipy.linalg.cython_blas": False,  # loaded for numba, then left to a later import
+    }
+
+
+def test_run_writes_and_prints_what_simulate_and_save_give(tmp_path):
+    # the console path (simulate_variables, the writer of results.save) against the public API
+    import xarray as xr
+
+    from pounding import load_case, open_result, save, simulate
+
+    case = ROOT / "examples" / "two_sdof.toml"
+    res = CliRunner().invoke(app, ["run", str(case), "-o", str(tmp_path / "cli.nc")])
+    assert res.exit_code == 0, res.output
+    ds = simulate(load_case(case))
+    save(ds, tmp_path / "api.nc")
+    cli, api = open_result(tmp_path / "cli.nc"), open_result(tmp_path / "api.nc")
+    cli.attrs.pop("created"), api.attrs.pop("created")
+    xr.testing.assert_identical(cli, api)
+    s = ds.pounding.summary()
+    for name, b in s["buildings"].items():
+        assert f"{b['T1']:7.3f}" in res.output and f"  {name:<12s}" in res.output
+    assert f"{100 * s['energy_balance_error']:.3g} % of the input energy" in res.output
+
+
+def test_run_console_process_ends_at_once_with_its_file_written(tmp_path):
+    # main() ends `pounding run` with os._exit (no interpreter teardown): the exit code, the
+    # summary on stdout and the file must all be complete
+    from pounding import open_result
+
+    out = tmp_path / "sub" / "out.nc"
+    cmd = [sys.executable, "-c", "from pounding.cli import main; main()"]
+    res = subprocess.run(
+        [*cmd, "run", str(ROOT / "examples" / "two_sdof.toml"), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        timeout=300,
+    )
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.rstrip().endswith(f"written {out}")
+    assert open_result(out)["displacement"].attrs["units"] == "m"
+    bad = subprocess.run(
+        [*cmd, "run", str(tmp_path / "missing.toml")],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        timeout=300,
+    )
+    assert bad.returncode == 2 and bad.stdout.count("\n") + bad.stderr.count("\n") == 1
