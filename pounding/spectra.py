@@ -48,7 +48,7 @@ from pounding.ground_motion import (
     _check_periods,
     nigam_jennings_coefficients,
 )
-from pounding.integrators._kernels import jit
+from pounding.integrators._kernels import _hermite, jit
 from pounding.units import G
 
 #: Default periods [s]: 120 log-spaced values from 0.01 s to 10 s.
@@ -144,14 +144,7 @@ def _hermite_extremum(y0, s0, y1, s1, h):  # pragma: no cover - compiled
             slope_lo = slope
         else:
             hi = th
-    t2 = th * th
-    t3 = t2 * th
-    return (
-        (2 * t3 - 3 * t2 + 1) * y0
-        + (t3 - 2 * t2 + th) * h * s0
-        + (-2 * t3 + 3 * t2) * y1
-        + (t3 - t2) * h * s1
-    )
+    return _hermite(y0, s0, y1, s1, h, th)
 
 
 @jit
