@@ -9,7 +9,7 @@ STAMP := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test,records,distributed]'
+	$(BIN)/python -m pip install --quiet -e '.[test,records,distributed,excel]'
 	# compile the numba kernels now (once per install), not during the first analysis
 	$(BIN)/pounding warmup
 	touch $(STAMP)
