@@ -131,3 +131,36 @@ def test_every_schemes_ledger_closes(method):
     ds = simulate(system, ground, method=method)
     assert len(ds.pounding.impacts()) > 5
     assert ds.attrs["energy_balance_error"] < 1e-8
+
+
+def _scaled_pair(law: str, lam: float):
+    """A 3-storey beside an 8-storey building with every length scaled by λ: gap, bilinear δ_m and
+    the ground acceleration by λ, the Hertz-family stiffness by λ^(1-n) (forces then scale by λ)."""
+    n = 1.0 if law in ("linear", "kelvin", "kelvin_approach") else 1.5
+    params = {"k": (1e9 if n == 1.0 else 2.75e9) * lam ** (1.0 - n)}
+    if law not in ("linear", "hertz"):
+        params["e"] = 0.65
+    if law == "bilinear":
+        params["delta_m"] = 0.005 * lam
+    a = ShearBuilding.uniform("A", 3, period=0.3, mass=3e5)
+    b = ShearBuilding.uniform("B", 8, period=1.0, mass=3e5)
+    return assemble([a, b], [Contact("A", "B", gap=0.02 * lam, law=law, **params)])
+
+
+@pytest.mark.parametrize(
+    ("law", "method"),
+    [(law.name, "newmark") for law in LAWS_BY_ID]
+    + [(name, "ivp") for name in ("hertz", "hunt_crossley", "jankowski")],
+)
+def test_a_model_scaled_in_length_gives_the_same_response(law, method):
+    # Every tolerance and floor is relative to the problem's scales: the same pair with every length
+    # ×0.01 or ×100 gives u/λ and F/λ equal to the unscaled run's to 1e-5 (measured ≤ 1e-6).
+    ground = harmonic(amplitude=0.35 * G, period=0.8, duration=6.0, dt=0.01)
+    ref = simulate(_scaled_pair(law, 1.0), ground, method=method)
+    assert len(ref.pounding.impacts()) > 0
+    u_ref, f_ref = ref["displacement"].values, ref["contact_force"].values
+    for lam in (0.01, 100.0):
+        ds = simulate(_scaled_pair(law, lam), ground.scaled(lam), method=method)
+        du = np.nanmax(np.abs(ds["displacement"].values / lam - u_ref)) / np.nanmax(np.abs(u_ref))
+        df = np.max(np.abs(ds["contact_force"].values / lam - f_ref)) / np.max(f_ref)
+        assert du < 1e-5 and df < 1e-5, (lam, du, df)
