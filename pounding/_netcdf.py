@@ -15,14 +15,23 @@ xarray; :func:`pounding.results.save` is the one public entry point.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+import contextlib
+import os
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from pounding.errors import PoundingError
+
 #: Variable: (dimension names, values, attributes).
 Variable = tuple[tuple[str, ...], np.ndarray, Mapping[str, Any]]
+
+
+class ResultWriteError(PoundingError, OSError):
+    """A result file could not be written (disk full, permissions, a name HDF5 refuses)."""
+
 
 # dtype kinds written here; anything else (bool, datetime, complex, ...) goes to xarray
 _KINDS = frozenset("fiuUO")
@@ -78,6 +87,30 @@ class _Attrs:
             attr.close()
 
 
+@contextlib.contextmanager
+def replacing(path: str | Path) -> Iterator[Path]:
+    """A temporary path beside ``path`` to write to; on success it is flushed to disk and renamed
+    over ``path`` in one step, on failure removed: a failed write never leaves a half-written file
+    nor destroys a good result already at ``path``."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.writing")
+    try:
+        yield tmp
+        with open(tmp, "rb+") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        if isinstance(exc, Exception) and not isinstance(exc, PoundingError):
+            raise ResultWriteError(
+                f"{path}: the result could not be written ({type(exc).__name__}: "
+                f"{' '.join(str(exc).split())}); "
+                + ("the previous file there is untouched" if path.exists() else "nothing written")
+            ) from exc
+        raise
+
+
 def write(
     path: str | Path,
     variables: Mapping[str, Variable],
@@ -112,7 +145,7 @@ def write(
     aux = sorted(c for c in coords if c not in dimid)
     str_dtype = h5py.string_dtype("utf-8")
     put = _Attrs(h5py).set
-    with h5py.File(path, "w", track_order=True) as f:
+    with replacing(path) as tmp, h5py.File(tmp, "w", track_order=True) as f:
         scales: dict[str, h5py.Dataset] = {}
         named: set[str] = set()
         # dimension coordinates first: the others attach to them

@@ -72,7 +72,8 @@ def save(ds: xr.Dataset, path: str | Path) -> Path:
     if _netcdf.supported(variables) and not any(map(_encoded, ds.variables.values())):
         _netcdf.write(path, variables, map(str, ds.coords), ds.attrs)
     else:
-        ds.to_netcdf(path, engine="h5netcdf", invalid_netcdf=False)
+        with _netcdf.replacing(path) as tmp:
+            ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=False)
     return path
 
 

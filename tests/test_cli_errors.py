@@ -141,3 +141,21 @@ def test_help_shows_the_units_the_first_hour_report_found_missing():
     assert "Override the integration step [s]" in out
     out = " ".join(runner.invoke(app, ["separation", "--help"], terminal_width=200).output.split())
     assert "ASCE 7 S_DS [g]" in out
+
+
+def test_run_that_cannot_write_its_result_keeps_the_old_file_and_says_why(tmp_path):
+    out = tmp_path / "out.nc"
+    assert runner.invoke(app, ["run", str(TWO_SDOF), "-o", str(out)]).exit_code == 0
+    before = out.read_bytes()
+    bad = tmp_path / "nul.toml"
+    bad.write_text(
+        TWO_SDOF.read_text()
+        .replace('name = "A"', 'name = "A\\u0000x"')
+        .replace('left = "A"', 'left = "A\\u0000x"')
+    )
+    res = runner.invoke(app, ["run", str(bad), "-o", str(out)])
+    assert res.exit_code == 2
+    line = res.output.strip().splitlines()[-1]
+    assert line.startswith("error: ") and "the previous file there is untouched" in line
+    assert out.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["nul.toml", "out.nc"]

@@ -182,3 +182,38 @@ def test_save_leaves_other_datasets_to_xarray(tmp_path):
     packed["x"].encoding = {"zlib": True, "dtype": "float32"}
     back = open_result(save(packed, tmp_path / "packed.nc"))
     assert back["x"].dtype == np.float32 and back["x"].encoding["zlib"]
+
+
+def test_a_failed_write_leaves_the_previous_result_untouched(pair, tmp_path):
+    # Results used to be written in place: a write that failed (a NUL in a building name, a full
+    # disk) left a corrupt file and destroyed the good result already at that path.
+    from pounding._netcdf import ResultWriteError
+
+    path = tmp_path / "out.nc"
+    save(pair, path)
+    before = path.read_bytes()
+    bad = pair.assign_coords(building=["A\x00x", "B"])
+    with pytest.raises(ResultWriteError, match="previous file there is untouched"):
+        save(bad, path)
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.nc"]  # no temporary file left
+
+
+def test_a_failed_fallback_write_leaves_the_previous_result_untouched(tmp_path, monkeypatch):
+    from pounding._netcdf import ResultWriteError
+
+    ds = xr.Dataset({"flag": ("x", np.array([True, False]))}, coords={"x": [0, 1]})
+    path = tmp_path / "other.nc"
+    save(ds, path)  # booleans go through xarray's writer
+    before = path.read_bytes()
+
+    def full_disk(self, target, *args, **kwargs):
+        with open(target, "wb") as fh:
+            fh.write(b"\x89HDF\r\n\x1a\n partial")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", full_disk)
+    with pytest.raises(ResultWriteError, match="No space left on device"):
+        save(ds, path)
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["other.nc"]
