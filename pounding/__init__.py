@@ -27,7 +27,11 @@ _LAZY = {
     "harmonic": "pounding.ground_motion",
     "ricker": "pounding.ground_motion",
     "sine_pulse": "pounding.ground_motion",
-    "ConvergenceError": "pounding.integrators.base",
+    "ConvergenceError": "pounding.errors",
+    "PoundingError": "pounding.errors",
+    "PoundingInputError": "pounding.errors",
+    "IntegrationError": "pounding.errors",
+    "ResultWriteError": "pounding.errors",
     "open_result": "pounding.results",
     "save": "pounding.results",
     "AnalysisOptions": "pounding.simulate",
@@ -52,8 +56,14 @@ if TYPE_CHECKING:  # for type checkers and IDEs (not report and separation: impo
     from pounding.case import Case, CaseError, load_case
     from pounding.contact.calibrate import ImpactResult, contact_parameters, effective_restitution
     from pounding.contact.laws import CONTACT_LAWS, get_contact_law
+    from pounding.errors import (
+        ConvergenceError,
+        IntegrationError,
+        PoundingError,
+        PoundingInputError,
+        ResultWriteError,
+    )
     from pounding.ground_motion import GroundMotion, harmonic, ricker, sine_pulse
-    from pounding.integrators.base import ConvergenceError
     from pounding.results import open_result, save
     from pounding.simulate import AnalysisOptions, simulate
     from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
@@ -96,6 +106,10 @@ __all__ = [
     "CaseError",
     "Contact",
     "ConvergenceError",
+    "IntegrationError",
+    "PoundingError",
+    "PoundingInputError",
+    "ResultWriteError",
     "GroundMotion",
     "ImpactResult",
     "IsolationBase",

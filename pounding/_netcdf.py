@@ -23,14 +23,10 @@ from typing import Any
 
 import numpy as np
 
-from pounding.errors import PoundingError
+from pounding.errors import PoundingError, ResultWriteError
 
 #: Variable: (dimension names, values, attributes).
 Variable = tuple[tuple[str, ...], np.ndarray, Mapping[str, Any]]
-
-
-class ResultWriteError(PoundingError, OSError):
-    """A result file could not be written (disk full, permissions, a name HDF5 refuses)."""
 
 
 # dtype kinds written here; anything else (bool, datetime, complex, ...) goes to xarray
@@ -93,6 +89,7 @@ def replacing(path: str | Path) -> Iterator[Path]:
     over ``path`` in one step, on failure removed: a failed write never leaves a half-written file
     nor destroys a good result already at ``path``."""
     path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.writing")
     try:
         yield tmp

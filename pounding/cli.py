@@ -130,7 +130,7 @@ def _print_summary(result: Any, path: str | None) -> None:
             )
     for name, b in s["buildings"].items():
         base = b.get("peak_base_displacement")
-        if base is not None and base == base:  # isolated buildings only (NaN otherwise)
+        if base is not None:  # isolated buildings only
             typer.echo(f"  {name}: peak base (bearing) displacement {base:.4g} m")
     terms = list(variables["term"][1])
     if "friction_dissipated" in terms:
@@ -177,7 +177,6 @@ def run(
     _link_cython_blas()
     if output:
         # the writer of results.save, given the arrays results.to_dataset would wrap
-        Path(output).parent.mkdir(parents=True, exist_ok=True)
         _netcdf.write(output, result.variables, result.coords, result.attrs)
     _print_summary(result, output)
 
@@ -389,7 +388,9 @@ def separation(
     table.update({k: v for k, v in flags.items() if v is not None})
     options = SeparationOptions.from_mapping(table)
     overrides = {k: v for k, v in {"method": method, "dt": dt}.items() if v is not None}
-    if (method or loaded.analysis.method) != "ivp":
+    # fixed-base buildings take the exact modal solution; only isolated ones run the Newmark loop
+    isolated = any(b.base is not None for b in loaded.buildings)
+    if isolated and (method or loaded.analysis.method) != "ivp":
         _compile_notice()
     ds = separation_analysis(loaded, options=options, **overrides)
     if output:
@@ -649,7 +650,6 @@ def records_spectrum(
     ),
 ) -> None:
     """Elastic response spectra of one or more records: table of PSa [g], optional plot and NetCDF."""
-    from pathlib import Path
 
     from pounding.spectra import response_spectra
     from pounding.units import G
@@ -695,7 +695,6 @@ def records_convert(
     units: str = typer.Option("g", help="Acceleration unit of a text output file."),
 ) -> None:
     """Convert one record to a PEER .AT2 file or a two-column text file."""
-    from pathlib import Path
 
     from pounding.records import write_record
 
@@ -819,7 +818,6 @@ def _skip_dask() -> None:
 
 def _netcdf_output(output: str | None) -> None:
     """Refuse ``-o`` paths that are not NetCDF before anything runs (csv/xlsx go through export)."""
-    from pathlib import Path
 
     if output and Path(output).suffix.lower() != ".nc":
         raise UserError(

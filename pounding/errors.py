@@ -16,6 +16,7 @@ __all__ = [
     "PoundingInputError",
     "ConvergenceError",
     "IntegrationError",
+    "ResultWriteError",
 ]
 
 
@@ -34,3 +35,8 @@ class ConvergenceError(PoundingError, RuntimeError):
 
 class IntegrationError(PoundingError, RuntimeError):
     """The ``solve_ivp`` path could not advance (solver failure or events that make no progress)."""
+
+
+class ResultWriteError(PoundingError, OSError):
+    """A result file could not be written (disk full, permissions, a name HDF5 refuses); the
+    previous file at that path, if any, is untouched."""

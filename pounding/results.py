@@ -22,8 +22,6 @@ import xarray as xr
 from pounding._schema import (  # noqa: F401  (ATTRS, energy_balance_error: public names here)
     ATTRS,
     ResultVariables,
-    _attr_value,
-    _padded,
     energy_balance_error,
     result_variables,
 )
@@ -64,7 +62,6 @@ def save(ds: xr.Dataset, path: str | Path) -> Path:
     from pounding import _netcdf
 
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     variables = {
         str(name): (tuple(map(str, v.dims)), np.asarray(v.values), v.attrs)
         for name, v in ds.variables.items()

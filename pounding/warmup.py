@@ -97,8 +97,9 @@ def warm_up() -> float:
 
 def ensure_compiled(announce=None) -> float:
     """Warm the cache when it is cold, after calling ``announce(notice())``; returns the seconds spent
-    (0 when already warm). Studies call this before starting worker processes, so the workers load
-    the kernels from the cache instead of each compiling them."""
+    (0 when already warm). ``pounding run``, ``study`` and ``separation`` call it before they start
+    (a study before its worker processes, so the workers load the kernels from the cache instead of
+    each compiling them); library users may call it themselves before ``run_study(jobs=N)``."""
     if is_warm():
         return 0.0
     if announce is not None:

@@ -187,7 +187,7 @@ def test_save_leaves_other_datasets_to_xarray(tmp_path):
 def test_a_failed_write_leaves_the_previous_result_untouched(pair, tmp_path):
     # Results used to be written in place: a write that failed (a NUL in a building name, a full
     # disk) left a corrupt file and destroyed the good result already at that path.
-    from pounding._netcdf import ResultWriteError
+    from pounding.errors import ResultWriteError
 
     path = tmp_path / "out.nc"
     save(pair, path)
@@ -200,7 +200,7 @@ def test_a_failed_write_leaves_the_previous_result_untouched(pair, tmp_path):
 
 
 def test_a_failed_fallback_write_leaves_the_previous_result_untouched(tmp_path, monkeypatch):
-    from pounding._netcdf import ResultWriteError
+    from pounding.errors import ResultWriteError
 
     ds = xr.Dataset({"flag": ("x", np.array([True, False]))}, coords={"x": [0, 1]})
     path = tmp_path / "other.nc"

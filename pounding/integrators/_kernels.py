@@ -162,8 +162,6 @@ STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 0, 1, 2
 #: The dense map is used for the open-gap step while its 3n² products cost less than this many times
 #: the band products 3n(2 bw + 1) (small systems, where loop overhead dominates the band form).
 DENSE_MAP_RATIO = 0.35
-#: A located closure ends with the gap shut to within this [m].
-LOCATE_TOL = 1e-10
 # an event (closure, separation) due within this fraction of a step is taken at the step's end
 EVENT_FRACTION = 1e-3
 #: After an onset (adaptive stepping) the contact step starts 2^GRADED_STEPS times smaller and doubles.
@@ -1584,7 +1582,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     t1 = t + hs
                     fr_event[ev] = True
                     for c in range(n_el):
-                        if closing[c] and d1[c] < -LOCATE_TOL:
+                        if closing[c] and d1[c] < -d_tol:
                             closing[c] = False
                 # transitions at the step end: the located event and any other slab at its own
                 for kk in range(n_fr):

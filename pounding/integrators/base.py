@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from pounding.errors import ConvergenceError
+
+if TYPE_CHECKING:
+    from pounding.ground_motion import GroundMotion
+    from pounding.system import PoundingSystem
 
 __all__ = ["ENERGY_TERMS", "IMPACT_FIELDS", "ConvergenceError", "RawResult"]
 
@@ -74,3 +79,22 @@ class RawResult:
     info: dict[str, Any]
     friction_force: np.ndarray | None = None
     stick: np.ndarray | None = None
+
+
+def response_scales(system: PoundingSystem, ground: GroundMotion) -> tuple[float, float]:
+    """(v_c [m/s], ω1 [rad/s]): the response's velocity scale v_c = min(PGV, PGA/ω1) and the lowest
+    natural frequency ω1 of any building (an isolated one's √(g/R) or, on flat sliders, PGA/PGV
+    included). Tolerances of both integrators are relative to these, so a model scaled in length
+    behaves the same."""
+    from pounding.ground_motion import ground_velocity
+    from pounding.units import G
+
+    omega1 = 2.0 * math.pi / max(float(b.modal().periods.max()) for b in system.buildings)
+    pgv = float(np.abs(ground_velocity(ground)).max()) if ground.npts > 1 else 0.0
+    for b in system.buildings:
+        # a sliding base moves at the isolated frequency √(g/R), or the ground's own PGA/PGV
+        if b.base is not None and b.base.radius is not None:
+            omega1 = min(omega1, math.sqrt(G / b.base.radius))
+        elif b.base is not None and pgv > 0.0 and ground.pga > 0.0:
+            omega1 = min(omega1, ground.pga / pgv)
+    return min(pgv, ground.pga / omega1), omega1

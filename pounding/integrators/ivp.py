@@ -68,7 +68,7 @@ import math
 import numpy as np
 
 from pounding.errors import IntegrationError, PoundingInputError
-from pounding.ground_motion import GroundMotion, ground_velocity
+from pounding.ground_motion import GroundMotion
 from pounding.integrators._kernels import (
     BILINEAR_ID,
     bilinear_rate,
@@ -79,9 +79,8 @@ from pounding.integrators._kernels import (
     friction_hysteretic_eval,
     jit,
 )
-from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, RawResult
+from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, RawResult, response_scales
 from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB, PoundingSystem
-from pounding.units import G
 
 #: solve_ivp methods this path accepts.
 IVP_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
@@ -449,15 +448,7 @@ class _Model:
         Each component gets ``rtol`` times its size; a user ``atol`` [m] replaces rtol·u_c and
         scales the others alike.
         """
-        omega1 = 2.0 * math.pi / max(float(b.modal().periods.max()) for b in system.buildings)
-        pgv = float(np.abs(ground_velocity(ground)).max())
-        for b in system.buildings:
-            # a sliding base moves at the isolated frequency √(g/R), or the ground's own PGA/PGV
-            if b.base is not None and b.base.radius is not None:
-                omega1 = min(omega1, math.sqrt(G / b.base.radius))
-            elif b.base is not None and pgv > 0.0 and ground.pga > 0.0:
-                omega1 = min(omega1, ground.pga / pgv)
-        v_c = min(pgv, ground.pga / omega1)
+        v_c, omega1 = response_scales(system, ground)
         if not v_c > 0.0:  # no excitation: any positive scale will do
             v_c = 1e-3 * omega1
         m_el = np.asarray(system.elements.el_mass, dtype=float)

@@ -50,9 +50,15 @@ import numpy as np
 
 from pounding.contact.laws import LAWS_BY_ID
 from pounding.errors import PoundingInputError
-from pounding.ground_motion import GroundMotion, ground_velocity
+from pounding.ground_motion import GroundMotion
 from pounding.integrators import _kernels as kn
-from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, ConvergenceError, RawResult
+from pounding.integrators.base import (
+    ENERGY_TERMS,
+    IMPACT_FIELDS,
+    ConvergenceError,
+    RawResult,
+    response_scales,
+)
 from pounding.system import PoundingSystem
 
 
@@ -143,10 +149,7 @@ def penetration_tolerance(system: PoundingSystem, ground: GroundMotion, tol: flo
     problem's lengths, so a model scaled in length behaves the same. Closures and separations are
     located to within it.
     """
-    periods = [float(b.modal().periods.max()) for b in system.buildings]
-    omega1 = 2.0 * math.pi / max(periods)
-    pgv = float(np.abs(ground_velocity(ground)).max()) if ground.npts > 1 else 0.0
-    v_c = min(pgv, ground.pga / omega1)
+    v_c, omega1 = response_scales(system, ground)
     u_c = v_c / omega1
     return 100.0 * tol * u_c if u_c > 0.0 else 1e-12
 

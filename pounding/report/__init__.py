@@ -1083,7 +1083,7 @@ def write_report(
             f"report format(s) {', '.join(bad)}; allowed: {', '.join(FORMATS)}"
         )
     store = None
-    if ds.attrs.get("pounding_kind") == "study":
+    if result_kind(ds) == "study":
         recorded = Path(str(ds.attrs.get("store", "")))
         if not recorded.is_dir() and result_path is not None:
             from pounding.studies import default_store
