@@ -129,6 +129,8 @@ def test_every_help_shows_its_units_and_table_names(path):
     cmd = dict(_commands(typer.main.get_command(app)))[path]
     texts = [cmd.help or ""] + [getattr(p, "help", None) or "" for p in cmd.params]
     expected = {m for t in texts for m in _BRACKETED.findall(t)}
+    if not expected:
+        pytest.skip(f"{' '.join(path) or 'pounding'} has no bracketed unit or table name")
     res = runner.invoke(app, [*path, "--help"], terminal_width=200)
     assert res.exit_code == 0, res.output
     shown = " ".join(res.output.split())

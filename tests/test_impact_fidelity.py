@@ -66,7 +66,7 @@ def test_free_mass_kicked_into_a_wall_rebounds_at_the_laws_own_restitution(law):
     e = ds["energy"].isel(time=-1)
     assert ds.attrs["energy_balance_error"] < 1e-9
     if law in ("linear", "hertz"):  # nothing dissipated by an elastic law
-        assert float(e.sel(term="contact_dissipated")) >= -1e-4 * float(e.sel(term="input"))
+        assert abs(float(e.sel(term="contact_dissipated"))) <= 1e-4 * float(e.sel(term="input"))
 
 
 @pytest.mark.skipif(not EL_CENTRO.is_file(), reason="../shared/data (El Centro record) not present")
@@ -94,7 +94,7 @@ def test_undamped_elastic_row_keeps_its_energy_over_a_thousand_impacts(method):
     mech = e.sel(term=["kinetic", "strain", "contact_stored"]).sum("term")
     free = mech.sel(time=slice(15.5, None)).values
     assert ds.attrs["energy_balance_error"] < 1e-6
-    assert float(e.sel(term="contact_dissipated").isel(time=-1)) >= -1e-4 * e_in
+    assert abs(float(e.sel(term="contact_dissipated").isel(time=-1))) <= 1e-4 * e_in
     alg = float(e.sel(term="algorithmic").isel(time=-1))
     if method == "newmark":
         assert np.ptp(free) < 1e-3 * e_in
