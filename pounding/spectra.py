@@ -39,7 +39,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from pounding import __version__
+from pounding._numba import jit
+from pounding._version import __version__
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import (
     MIN_SUBSTEPS,
@@ -48,7 +49,7 @@ from pounding.ground_motion import (
     _check_periods,
     nigam_jennings_coefficients,
 )
-from pounding.integrators._kernels import _hermite, jit
+from pounding.integrators._kernels import _hermite
 from pounding.units import G
 
 #: Default periods [s]: 120 log-spaced values from 0.01 s to 10 s.

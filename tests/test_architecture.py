@@ -31,9 +31,9 @@ def _imports(path: Path) -> set[str]:
     return names
 
 
-def test_numba_is_imported_only_by_the_kernels_module():
+def test_numba_is_imported_only_by_the_numba_module():
     users = {p.name for p in (ROOT / "pounding").rglob("*.py") if "numba" in _imports(p)}
-    assert users == {"_kernels.py"}
+    assert users == {"_numba.py"}
 
 
 def test_every_public_name_resolves():

@@ -18,8 +18,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
 from pounding import friction as fr
+from pounding._numba import jit
 from pounding.friction import FRICTION_LAWS, friction_parameters
-from pounding.integrators._kernels import jit
 
 G = 9.80665
 

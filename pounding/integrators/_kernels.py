@@ -1,24 +1,8 @@
-"""Compiled kernels. The only module that imports numba.
-
-Every other module that needs compiled code takes :func:`jit` from here, so the caching policy and
-the switch to run uncompiled (``NUMBA_DISABLE_JIT=1``, used by the tests to compare both paths) live
-in one place.
-"""
+"""Compiled kernels of the Newmark/HHT time loop and the compiled dispatch of the laws."""
 
 from __future__ import annotations
 
-import numba
-
-
-def jit(func):
-    """Compile ``func`` in nopython mode, cached on disk; ``func.py_func`` stays the Python original."""
-    return numba.njit(cache=True, fastmath=False)(func)
-
-
-def jit_inline(func):
-    """:func:`jit`, inlined into its callers by numba (no call boundary to pass arrays across)."""
-    return numba.njit(cache=True, fastmath=False, inline="always")(func)
-
+from pounding._numba import jit, jit_inline  # noqa: F401  (re-exported: the kernels' decorators)
 
 # --------------------------------------------------------------------------------------------------
 # Contact laws: compiled from the single definitions in pounding.contact.laws
