@@ -3,11 +3,81 @@
 Every module that needs compiled code takes :func:`jit` (or :func:`jit_inline`) from here, so the
 caching policy and the switch to run uncompiled (``NUMBA_DISABLE_JIT=1``, used by the tests to
 compare both paths) live in one place.
+
+numba's disk cache keys each compiled function on its own source file only, while a kernel carries
+the machine code of the functions it calls from other modules: after an edit to a callee's module
+(a law, a step), the caller's cached code would be stale. So every compiled function of this
+package is stamped with one digest of all :data:`COMPILED_SOURCES` instead; an edit to any of them
+recompiles everything that depends on it.
 """
 
 from __future__ import annotations
 
+import hashlib
+from pathlib import Path
+
 import numba
+
+_PACKAGE = Path(__file__).resolve().parent
+#: Sources whose functions are compiled (or called by compiled code), relative to the package.
+COMPILED_SOURCES = (
+    "_numba.py",
+    "integrators/_kernels.py",
+    "integrators/ivp.py",
+    "contact/laws.py",
+    "friction.py",
+    "system.py",
+    "ground_motion.py",
+    "spectra.py",
+    "sdof.py",
+)
+_stamp: str | None = None
+
+
+def source_stamp() -> str:
+    """Digest of the modification times and sizes of every file of :data:`COMPILED_SOURCES`."""
+    global _stamp
+    if _stamp is None:
+        digest = hashlib.sha256()
+        for pattern in COMPILED_SOURCES:
+            for path in sorted(_PACKAGE.glob(pattern)):
+                st = path.stat()
+                digest.update(f"{pattern}:{path.name}:{st.st_mtime_ns}:{st.st_size};".encode())
+        _stamp = digest.hexdigest()
+    return _stamp
+
+
+def _package_locators() -> None:
+    """Put locators that stamp this package's functions with :func:`source_stamp` ahead of
+    numba's own (same cache directories; functions outside the package keep numba's stamp)."""
+    from numba.core import caching
+
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
+    ours = []
+    for name in ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator"):
+        base = getattr(caching, name, None) or getattr(caching, "_" + name, None)
+        if base is None:
+            return  # an unknown numba layout: keep its default stamps
+
+        def from_function(cls, py_func, py_file, _base=base):
+            if not Path(py_file).resolve().is_relative_to(_PACKAGE):
+                return None
+            return _base.from_function.__func__(cls, py_func, py_file)
+
+        ours.append(
+            type(
+                "Package" + name,
+                (base,),
+                {
+                    "from_function": classmethod(from_function),
+                    "get_source_stamp": lambda self: source_stamp(),
+                },
+            )
+        )
+    impl._locator_classes[:0] = [c for c in ours if c not in impl._locator_classes]
+
+
+_package_locators()
 
 
 def jit(func):

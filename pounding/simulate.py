@@ -88,9 +88,9 @@ class AnalysisOptions:
     max_iter, max_halvings : int
         Newton iterations per step; step halvings allowed when Newton fails.
     locate_onset : bool
-        Shorten a step that closes a gap so it ends at the closure.
+        Shorten a step that closes or separates a gap so it ends there.
     steps_per_contact, steps_per_period : int
-        Steps per contact duration (default 40) and per shortest natural period (default 160).
+        Steps per contact duration and per shortest natural period (both 160 by default).
     adaptive : bool
         Event-aware stepping (module docstring); False keeps one fixed step.
     """

@@ -1566,8 +1566,11 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     t1 = t + hs
                     fr_event[ev] = True
                     for c in range(n_el):
+                        # a closure or separation the shortened step no longer reaches comes later
                         if closing[c] and d1[c] < -d_tol:
                             closing[c] = False
+                        if separating[c] and d1[c] > d_tol:
+                            separating[c] = False
                 # transitions at the step end: the located event and any other slab at its own
                 for kk in range(n_fr):
                     if fr_kind[kk] != FRICTION_COULOMB:
@@ -1633,7 +1636,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
             for c in range(n_el):
                 # a gap that would close within EVENT_FRACTION of a step closes now: locating it
                 # would take a step so short that its acceleration is lost to round-off
-                soon = dd1[c] > 0.0 and -d1[c] < EVENT_FRACTION * hs * dd1[c]
+                soon = dd1[c] > 0.0 and d_tol - d1[c] < EVENT_FRACTION * hs * dd1[c]
                 if not el_in[c] and (closing[c] or d1[c] > d_tol or soon):
                     if closing[c] or soon:
                         # the step was shortened to end at this closure (or ends just before it)

@@ -61,6 +61,10 @@ from pounding.integrators.base import (
 )
 from pounding.system import PoundingSystem
 
+#: Newton iterations per step and step halvings allowed by default.
+MAX_ITER = 25
+MAX_HALVINGS = 12
+
 
 class Newmark:
     """Average (constant) acceleration: γ = 1/2, β = 1/4, α = 0."""
@@ -181,6 +185,22 @@ def _contacts_at_failure(
     return f"{label}{'s' if len(names) > 1 else ''} {', '.join(names)}" if names else "no contact"
 
 
+def _remedies(max_iter: int, max_halvings: int, locate_onset: bool, adaptive: bool) -> str:
+    """What a user can still change after a Newton failure: the options below their defaults (in
+    the [analysis] table), then a smaller dt or a softer contact."""
+    steps = []
+    if max_halvings < MAX_HALVINGS:
+        steps.append(f"max_halvings = {MAX_HALVINGS}")
+    if max_iter < MAX_ITER:
+        steps.append(f"max_iter = {MAX_ITER}")
+    if not locate_onset:
+        steps.append("locate_onset = true")
+    if not adaptive:
+        steps.append("adaptive = true")
+    options = f"[analysis] {', '.join(steps)}, " if steps else ""
+    return f"{options}a smaller dt, or a softer contact k"
+
+
 def integrate_newmark(
     system: PoundingSystem,
     ground: GroundMotion,
@@ -190,8 +210,8 @@ def integrate_newmark(
     n_steps: int,
     scheme: str | Newmark = "newmark",
     tol: float = 1e-10,
-    max_iter: int = 25,
-    max_halvings: int = 12,
+    max_iter: int = MAX_ITER,
+    max_halvings: int = MAX_HALVINGS,
     locate_onset: bool = True,
     adaptive: bool = False,
     steps_per_contact: int = 20,
@@ -253,8 +273,7 @@ def integrate_newmark(
             raise ConvergenceError(
                 f"Newton-Raphson did not converge at t = {t_reached:.6g} s, {where}, with dt = "
                 f"{dt:.3g} s, max_iter = {max_iter} and the step halved up to {max_halvings} times; "
-                "try [analysis] max_halvings = 12, max_iter = 25, locate_onset = true, adaptive = "
-                "true, a smaller dt, or a softer contact k"
+                f"try {_remedies(max_iter, max_halvings, locate_onset, adaptive)}"
             )
         break
     n_imp = int(counters[kn.CNT_IMPACTS])

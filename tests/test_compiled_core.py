@@ -1,0 +1,83 @@
+"""The compiled Newmark core against its sources: the law dispatch id by id against the registries,
+and the cache stamp that keeps a kernel from loading machine code compiled from older callees."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+from pounding import _numba
+from pounding import friction as fr
+from pounding.contact.calibrate import contact_parameters
+from pounding.contact.laws import LAWS_BY_ID
+from pounding.integrators._kernels import (
+    contact_eval,
+    friction_eval,
+    friction_hysteretic_eval,
+)
+
+ROOT = Path(__file__).resolve().parents[1] / "pounding"
+FRICTION_VALUES = {"mu_s": 0.12, "mu_d": 0.1, "mu_min": 0.04, "mu_max": 0.1, "a": 20.0, "mu_v": 0.01,
+                   "k_v": 1e4, "v_s": 0.05}  # fmt: skip
+
+
+@pytest.mark.parametrize("law", LAWS_BY_ID, ids=lambda law: law.name)
+def test_compiled_contact_dispatch_calls_the_registered_kernel(law):
+    p = contact_parameters(law, k=1e9, e=0.7, mass=1e5, delta_m=5e-3)
+    for d, dd, v0, d_prev, f_prev in [(1e-3, 0.3, 0.5, 8e-4, 2e4), (2e-3, -0.2, 0.5, 2.1e-3, 9e4),
+                                      (-1e-3, 0.2, 0.5, 0.0, 0.0)]:  # fmt: skip
+        got = contact_eval(law.kernel_id, d, dd, v0, d_prev, f_prev, p)
+        assert got == law.kernel(d, dd, v0, d_prev, f_prev, p)
+
+
+@pytest.mark.parametrize("law", fr.LAWS_BY_ID, ids=lambda law: law.name)
+def test_compiled_friction_dispatch_calls_the_registered_kernel(law):
+    p = fr.friction_parameters(
+        law,
+        **{q.name: FRICTION_VALUES[q.name] for q in law.parameters if q.name in FRICTION_VALUES},
+    )
+    for v in (-0.3, -1e-4, 0.0, 2e-4, 0.5):
+        assert friction_eval(law.kernel_id, v, 2e6, p) == law.kernel(v, 2e6, p)
+        if law.hysteretic_kernel is not None:
+            got = friction_hysteretic_eval(law.kernel_id, v, 2e6, 0.4, p)
+            assert got == law.hysteretic_kernel(v, 2e6, 0.4, p)
+
+
+def test_every_module_with_compiled_code_is_in_the_cache_stamp():
+    stamped = {p.resolve() for pattern in _numba.COMPILED_SOURCES for p in ROOT.glob(pattern)}
+    users = set()
+    for path in ROOT.rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module == "pounding._numba":
+                users.add(path.resolve())
+    assert users and users <= stamped
+    # the laws compiled by the dispatch are stamped too
+    assert {ROOT / "contact" / "laws.py", ROOT / "friction.py"} <= stamped
+
+
+def test_an_edit_to_any_compiled_source_changes_the_cache_stamp(tmp_path, monkeypatch):
+    (tmp_path / "contact").mkdir()
+    (tmp_path / "contact" / "laws.py").write_text("x = 1\n")
+    (tmp_path / "friction.py").write_text("y = 1\n")
+    monkeypatch.setattr(_numba, "_PACKAGE", tmp_path)
+    monkeypatch.setattr(_numba, "_stamp", None)
+    before = _numba.source_stamp()
+    (tmp_path / "contact" / "laws.py").write_text("x = 22\n")  # another size
+    monkeypatch.setattr(_numba, "_stamp", None)
+    assert _numba.source_stamp() != before
+
+
+def test_the_package_locator_stamps_the_kernels_and_only_them():
+    from numba.core import caching
+
+    from pounding.integrators._kernels import newmark_run
+
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
+    ours = [c for c in impl._locator_classes if c.__name__.startswith("Package")]
+    assert ours, "the package's cache locators are not installed"
+    loc = ours[1].from_function(newmark_run.py_func, newmark_run.py_func.__code__.co_filename)
+    assert loc is not None and loc.get_source_stamp() == _numba.source_stamp()
+    assert ours[1].from_function(ast.parse, ast.__file__) is None
