@@ -13,7 +13,6 @@ import xarray as xr
 from pounding import plots
 from pounding._version import __version__
 from pounding.report.document import _MAX_ROWS, Plot, Report, Section, Table, _g
-from pounding.separation import separation_summary
 
 
 def _interface_section(f: dict[str, Any], s: dict[str, Any]) -> Section:
@@ -50,6 +49,8 @@ def _interface_section(f: dict[str, Any], s: dict[str, Any]) -> Section:
 def separation_report(ds: xr.Dataset, store: Path | None = None) -> Report:
     """The report of a separation check (from :func:`pounding.separation.separation_analysis`);
     ``store`` is not used."""
+    from pounding.separation import separation_summary  # scipy.stats: ~0.5 s, only for this kind
+
     s = separation_summary(ds)
     n_modes = min(3, ds.sizes["mode"])
     period = ds["natural_period"]

@@ -26,12 +26,13 @@ from pounding.report.document import (
     _value_text,
 )
 from pounding.report.sections import _ground_motion_section, _model_section
-from pounding.separation import fit_lognormal
 
 
 def _dispersion(values: np.ndarray) -> float:
     """Lognormal dispersion β of the positive finite values, maximum likelihood
     (:func:`pounding.separation.fit_lognormal`, divisor n); NaN with fewer than two of them."""
+    from pounding.separation import fit_lognormal  # scipy.stats: ~0.5 s, not for other kinds
+
     v = values[np.isfinite(values) & (values > 0)]
     return fit_lognormal(v).beta if v.size > 1 else float("nan")
 
