@@ -33,6 +33,12 @@ def label(da: xr.DataArray, name: str | None = None, *, units: str | None = None
     return f"{text} [{'-' if unit == '1' else unit}]"
 
 
+def plain_text(text: object) -> str:
+    """``text`` with every ``$`` escaped, so that matplotlib draws it as written and never parses
+    it as mathtext (a building called ``$x_1$``, ``A$b_c^d`` or ``$\\undefined$``)."""
+    return str(text).replace("$", r"\$")
+
+
 def _figure(height: float, ncols: int = 1, nrows: int = 1, **kw) -> tuple[Figure, np.ndarray]:
     fig = Figure(figsize=(WIDTH, height), layout="constrained")
     axes = fig.subplots(nrows, ncols, squeeze=False, **kw)
@@ -76,7 +82,7 @@ def mode_shapes(ds: xr.Dataset, n_modes: int = 3) -> Figure:
                 label=f"mode {m}: T = {period:.3g} s",
             )
         ax.axvline(0.0, color="0.6", lw=0.8)
-        ax.set_title(f"building {name}")
+        ax.set_title(f"building {plain_text(name)}")
         ax.set_xlabel(label(ds["mode_shape"]))
         ax.legend(fontsize="small")
     axes[0, 0].set_ylabel(label(ds["floor_elevation"]))
@@ -93,7 +99,7 @@ def ground_motions(
         acc = np.asarray(acc)
         acc = acc[np.isfinite(acc)]
         ax.plot(dt * np.arange(acc.size), acc / G, lw=0.7)
-        ax.set_title(str(name), fontsize="small", loc="left")
+        ax.set_title(plain_text(name), fontsize="small", loc="left")
         ax.set_ylabel("a_g [g]")
     axes[-1, 0].set_xlabel("time [s]")
     if len(records) > len(shown):
@@ -108,7 +114,7 @@ def response_spectra(spectra: xr.Dataset, periods: dict[str, float] | None = Non
     psa = spectra["PSa"]
     if "record" in psa.dims:
         for name in psa["record"].values:
-            ax.plot(spectra["period"], psa.sel(record=name) / G, lw=0.9, label=str(name))
+            ax.plot(spectra["period"], psa.sel(record=name) / G, lw=0.9, label=plain_text(name))
         if psa.sizes["record"] > 1:
             ax.plot(spectra["period"], psa.median("record") / G, color="k", lw=2, label="median")
     else:
@@ -116,7 +122,7 @@ def response_spectra(spectra: xr.Dataset, periods: dict[str, float] | None = Non
     for name, t in (periods or {}).items():
         ax.axvline(t, color="0.4", ls=":", lw=1)
         ax.annotate(
-            f"T1 {name}",
+            f"T1 {plain_text(name)}",
             (t, 1),
             xycoords=("data", "axes fraction"),
             rotation=90,
@@ -147,7 +153,7 @@ def _contact_name(ds: xr.Dataset, c: int) -> str:
     text += f"{sel['contact_right'].item()}:{int(sel['contact_right_floor'])}"
     if "contact_law" in ds.coords:
         text += f" ({sel['contact_law'].item()})"
-    return text
+    return plain_text(text)
 
 
 def isolated_buildings(ds: xr.Dataset) -> list[str]:
@@ -204,7 +210,7 @@ def displacement_histories(ds: xr.Dataset) -> Figure:
                     y = np.interp(t, ds["time"].values, uf.values)
                     ax.plot(t, y, "v", ms=4, color=line[0].get_color(), mec="k", mew=0.4)
         ax.axhline(0.0, color="0.6", lw=0.6)
-        ax.set_title(f"building {name} (▼ impact)", fontsize="small", loc="left")
+        ax.set_title(f"building {plain_text(name)} (▼ impact)", fontsize="small", loc="left")
         ax.set_ylabel(label(u, "displacement"))
         ax.legend(fontsize="x-small", ncol=4, loc="upper right")
     axes[-1, 0].set_xlabel(label(ds["time"]))
@@ -226,7 +232,7 @@ def envelopes(
             z = data["floor_elevation"].sel(building=name).values[:n]
             disp = data["peak_displacement"].sel(building=name).values[:n]
             drift = data["peak_drift_ratio"].sel(building=name).values[:n]
-            text = f"{name} {tag}".strip()
+            text = plain_text(f"{name} {tag}".strip())
             # at z = 0: the ground, or the sliding base slab of an isolated building
             base = (
                 float(data["peak_base_displacement"].sel(building=name))
@@ -318,7 +324,7 @@ def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = ""
             marker=".",
             ms=3,
             lw=1.0,
-            label=f"{text} (contact {c}, t = {t0:.2f} s)",
+            label=plain_text(f"{text} (contact {c}, t = {t0:.2f} s)"),
         )
     ax.set_xlabel(labels[0])
     ax.set_ylabel(labels[1])
@@ -326,7 +332,7 @@ def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = ""
     ax.set_ylim(bottom=0.0)
     ax.grid(True, alpha=0.3)
     if title:
-        ax.set_title(title, fontsize="small")
+        ax.set_title(plain_text(title), fontsize="small")
     if ax.lines:
         ax.legend(fontsize="x-small")
     return fig
@@ -391,7 +397,7 @@ def _bearing_title(ds: xr.Dataset, building: str) -> str:
     radius = float(sel["base_radius"]) if "base_radius" in ds else math.nan
     if math.isfinite(radius):
         text += f", R = {radius:.3g} m"
-    return text
+    return plain_text(text)
 
 
 def base_displacements(ds: xr.Dataset) -> Figure:
@@ -501,14 +507,14 @@ def amplification(
                     lo = s.quantile(0.16, dim=others, skipna=True) if others else s
                     hi = s.quantile(0.84, dim=others, skipna=True) if others else s
                 xs = ds[x].values
-                line = ax.plot(xs, med.values, marker="o", ms=3, label=law or variable)
+                line = ax.plot(xs, med.values, marker="o", ms=3, label=plain_text(law or variable))
                 ax.fill_between(xs, lo.values, hi.values, color=line[0].get_color(), alpha=0.12)
                 ax.set_xlabel(label(ds[x]))
             else:
                 med = float(_median(s, []))
                 ax.bar(str(law), med)
         ax.axhline(1.0, color="k", lw=0.8, ls="--")
-        ax.set_title(f"building {name}", fontsize="small")
+        ax.set_title(f"building {plain_text(name)}", fontsize="small")
         ax.grid(True, alpha=0.3)
     axes[0, 0].set_ylabel(label(da, "amplification", units="1"))
     if laws != [None] and any(line for line in axes[0, 0].lines):
@@ -557,14 +563,17 @@ def heatmap(
                 color="w" if light else "k",
             )
     ax.set_xticks(
-        range(med.sizes[x]), [f"{v:g}" if isinstance(v, float) else str(v) for v in med[x].values]
+        range(med.sizes[x]),
+        [f"{v:g}" if isinstance(v, float) else plain_text(v) for v in med[x].values],
     )
-    ax.set_yticks(range(med.sizes[y]), [str(v) for v in med[y].values])
+    ax.set_yticks(range(med.sizes[y]), [plain_text(v) for v in med[y].values])
     ax.set_xlabel(label(ds[x]))
     ax.set_ylabel(label(ds[y]))
     cbar = fig.colorbar(im, ax=ax)
     cbar.set_label(label(da, name, units=units), fontsize="small")
-    title = da.attrs.get("long_name", variable) + (f", building {building}" if building else "")
+    title = da.attrs.get("long_name", variable) + (
+        f", building {plain_text(building)}" if building else ""
+    )
     ax.set_title(f"median: {title}", fontsize="small")
     return fig
 
@@ -575,11 +584,16 @@ def study_histories(runs: Sequence[tuple[str, xr.Dataset]], building: str) -> Fi
     ax = axes[0, 0]
     for text, ds in runs:
         n = _n_floors(ds, building) if "floor_elevation" in ds else ds.sizes["floor"]
-        ax.plot(ds["time"], ds["displacement"].sel(building=building, floor=n), lw=0.8, label=text)
+        ax.plot(
+            ds["time"],
+            ds["displacement"].sel(building=building, floor=n),
+            lw=0.8,
+            label=plain_text(text),
+        )
     if runs:
         ds = runs[0][1]
         ax.set_xlabel(label(ds["time"]))
-        ax.set_ylabel(label(ds["displacement"], f"roof displacement of {building}"))
+        ax.set_ylabel(label(ds["displacement"], f"roof displacement of {plain_text(building)}"))
     ax.legend(fontsize="x-small", ncol=2)
     ax.grid(True, alpha=0.3)
     return fig
@@ -609,11 +623,11 @@ def required_gaps(ds: xr.Dataset) -> Figure:
         if np.isfinite(target):
             p = float(ds.attrs.get("target_probability", np.nan))
             ax.axvline(target, color="C2", ls="--", lw=1, label=f"lognormal, P = {p:.3g}")
-        ax.set_title(f"interface {f}", fontsize=9)
+        ax.set_title(f"interface {plain_text(f)}", fontsize=9)
         ax.set_xlabel(label(stat, "required gap"))
         ax.grid(axis="x", alpha=0.3)
         ax.set_xlim(left=0.0)
-    axes[0, 0].set_yticks(y, labels, fontsize=7)
+    axes[0, 0].set_yticks(y, [plain_text(t) for t in labels], fontsize=7)
     handles, names = axes[0, -1].get_legend_handles_labels()
     fig.legend(handles, names, loc="outside lower center", ncols=len(names), fontsize=7)
     return fig
@@ -635,7 +649,7 @@ def pounding_probability(ds: xr.Dataset) -> Figure:
             ax.axhline(p, color="0.5", ls=":", lw=1)
         if np.isfinite(target):
             ax.axvline(target, color="C2", ls="--", lw=1, label=f"P = {p:.3g}: {target:.4g} m")
-        ax.set_title(f"interface {f}", fontsize=9)
+        ax.set_title(f"interface {plain_text(f)}", fontsize=9)
         ax.set_xlabel(label(gap, "gap"))
         ax.set_ylim(-0.02, 1.02)
         ax.grid(alpha=0.3)

@@ -314,3 +314,90 @@ def test_isolated_analysis_report_has_the_bearing_section(tmp_path):
     assert sum(type(b).__name__ == "Plot" for b in section.blocks) == 2
     html = render_html(report)
     assert "Base isolation" in html and "hysteresis" in html
+
+
+MATHTEXT_NAMES = ("A$b_c^d", r"$\undefinedmacro$")
+
+
+@pytest.fixture(scope="module")
+def mathtext_report(tmp_path_factory):
+    """Buildings named like matplotlib mathtext (issue 16: an unknown macro failed the report, two
+    "$" garbled the label)."""
+    data = _base()
+    del data["study"]
+    for b, name in zip(data["building"], MATHTEXT_NAMES, strict=True):
+        b["name"] = name
+    data["contact"][0].update(left=MATHTEXT_NAMES[0], right=MATHTEXT_NAMES[1])
+    ds = simulate(case_from_dict(data))
+    return ds, write_report(ds, tmp_path_factory.mktemp("mathtext") / "report")
+
+
+def test_report_of_a_building_named_like_mathtext_draws_the_name_as_written(mathtext_report):
+    from pounding.report.html import _svg
+
+    ds, paths = mathtext_report
+    assert [p.name for p in paths] == ["report.html", "report.pdf"]
+    modes = next(b for b in build_report(ds).sections[0].blocks if hasattr(b, "figure"))
+    svg = str(_svg(modes.figure))
+    for name in MATHTEXT_NAMES:
+        assert f"building {name}" in svg
+    assert "A$b_c^d" in _html(paths)
+
+
+@needs_poppler
+def test_pdf_of_a_building_named_like_mathtext_prints_the_name_as_written(mathtext_report):
+    _, paths = mathtext_report
+    text = subprocess.run(
+        [PDFTOTEXT, str(_pdf(paths)), "-"], capture_output=True, text=True, check=True
+    ).stdout
+    assert "Shear buildings A$b_c^d, $\\undefinedmacro$" in text
+
+
+def test_report_dispatches_through_the_registry(analysis_report, monkeypatch):
+    from pounding.report import REPORT_BUILDERS, Report
+
+    assert set(REPORT_BUILDERS) == {"analysis", "study", "separation"}
+    ds, _ = analysis_report
+    stub = Report("stub", "analysis", [], [])
+    monkeypatch.setitem(REPORT_BUILDERS, "analysis", lambda ds, store: stub)
+    assert build_report(ds) is stub
+
+
+def test_study_dispersion_is_the_maximum_likelihood_lognormal_fit(study_report):
+    # one lognormal fit (issue 14 item 4): the report's β is separation.fit_lognormal's, divisor n
+    from pounding.report import _g
+    from pounding.separation import fit_lognormal
+
+    ds, _ = study_report
+    rep = build_report(ds)
+    table = rep.sections[3].blocks[-1]
+    assert "lognormal, maximum likelihood" in table.caption
+    group = table.header[:2]
+    assert group == ["law", "gap"]
+    col = table.header.index("β L")
+    row = table.rows[0]
+    sel = {"law": row[0], "gap": float(row[1])}
+    amp = ds["displacement_amplification"].sel(building="L", **sel).values.ravel()
+    amp = amp[np.isfinite(amp) & (amp > 0)]
+    assert amp.size == 2  # two records
+    beta = fit_lognormal(amp).beta
+    assert row[col] == _g(beta, 2)
+    # ML for two values: |ln a1 - ln a2| / 2, the sample standard deviation's 1/sqrt(2)
+    ln = np.log(amp)
+    assert beta == pytest.approx(abs(ln[0] - ln[1]) / 2)
+    assert beta == pytest.approx(np.std(ln, ddof=1) / np.sqrt(2))
+
+
+def test_separation_report_names_its_lognormal_fit(separation_report):
+    ds, paths = separation_report
+    rep = build_report(ds)
+    interface = rep.sections[2]
+    fit = next(b for b in interface.blocks if isinstance(b, str) and "β" in b)
+    assert "(lognormal, maximum likelihood)" in fit
+    from pounding.report import _g
+    from pounding.separation import fit_lognormal
+
+    exact = ds["required_gap"].sel(interface="A|B", estimate="time_history").values
+    beta = fit_lognormal(exact).beta
+    assert beta == pytest.approx(float(ds["lognormal_beta"].sel(interface="A|B")))
+    assert f"β {_g(beta, 3)}" in fit

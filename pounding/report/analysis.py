@@ -1,0 +1,238 @@
+"""The report of one analysis (``pounding run``): the model, the ground motion, the results
+(displacement histories with impacts, envelopes, contact forces, force–penetration loops, impacts,
+energy ledger) and, for isolated buildings, the base isolation."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import xarray as xr
+
+from pounding import plots
+from pounding._version import __version__
+from pounding.report.document import _MAX_ROWS, NOMINAL_V0, Plot, Report, Section, Table, _g
+from pounding.report.sections import _ground_motion_section, _model_section
+
+
+def _analysis_law_rows(ds: xr.Dataset) -> list[dict[str, Any]]:
+    impacts = ds.pounding.impacts()
+    groups: dict[tuple, dict[str, Any]] = {}
+    for c in ds["contact"].values:
+        sel = ds.sel(contact=c)
+        law = str(sel["contact_law"].item())
+        n = float(sel["contact_n"]) if "contact_n" in ds else float("nan")
+        e = float(sel["contact_e"]) if "contact_e" in ds else float("nan")
+        key = (law, float(sel["contact_k"]), n, e, float(sel["contact_effective_mass"]))
+        v0 = impacts.loc[impacts["contact"] == c, "v0"].to_numpy()
+        row = groups.setdefault(
+            key,
+            {
+                "law": law,
+                "k": key[1],
+                "n": None if math.isnan(n) else n,
+                "e": None if math.isnan(e) else e,
+                "mass": key[4],
+                "v": [],
+            },
+        )
+        row["v"].extend(v for v in v0 if math.isfinite(v) and v > 0)
+    rows = []
+    for row in groups.values():
+        observed = bool(row["v"])
+        rows.append(
+            {
+                **row,
+                "v0": max(row["v"]) if observed else NOMINAL_V0,
+                "observed": observed,
+                "label": f"{row['law']} (m̄ = {row['mass']:.4g} kg)",
+            }
+        )
+    return rows
+
+
+def _contacts_table(ds: xr.Dataset) -> Table:
+    imp = ds.pounding.impacts()
+    rows = []
+    for c in ds["contact"].values:
+        sel = ds.sel(contact=c)
+        impulse = float(imp.loc[imp["contact"] == c, "impulse"].sum())
+        rows.append(
+            [
+                str(int(c)),
+                f"{sel['contact_left'].item()}:{int(sel['contact_left_floor'])}",
+                f"{sel['contact_right'].item()}:{int(sel['contact_right_floor'])}",
+                str(sel["contact_law"].item()),
+                _g(float(sel["contact_gap"]) * 1e3, 4),
+                str(int(sel["impact_count"])),
+                _g(float(sel["peak_contact_force"]) / 1e6, 4),
+                _g(float(sel["peak_penetration"]) * 1e3, 4),
+                _g(impulse / 1e3, 4),
+            ]
+        )
+    return Table(
+        [
+            "contact",
+            "left:floor",
+            "right:floor",
+            "law",
+            "gap [mm]",
+            "impacts",
+            "peak force [MN]",
+            "peak penetration [mm]",
+            "impulse [kN s]",
+        ],
+        rows,
+        "Peaks are tracked at every integration step.",
+    )
+
+
+def _impacts_table(ds: xr.Dataset) -> Table:
+    """The first impacts: start, end, approach speed, peaks, impulse and rebound/approach."""
+    imp = ds.pounding.impacts()
+    rows = [
+        [
+            str(int(r.contact)),
+            _g(r.start, 5),
+            _g(r.end, 5),
+            _g(r.v0, 4),
+            _g(r.peak_force / 1e6, 4),
+            _g(r.max_penetration * 1e3, 4),
+            _g(r.impulse / 1e3, 4),
+            _g(r.restitution, 3),
+        ]
+        for r in imp.head(_MAX_ROWS).itertuples()
+    ]
+    cap = (
+        f"First {_MAX_ROWS} of {len(imp)} impacts."
+        if len(imp) > _MAX_ROWS
+        else f"{len(imp)} impacts."
+    )
+    return Table(
+        [
+            "contact",
+            "start [s]",
+            "end [s]",
+            "v0 [m/s]",
+            "peak force [MN]",
+            "max penetration [mm]",
+            "impulse [kN s]",
+            "rebound/approach",
+        ],
+        rows,
+        cap,
+    )
+
+
+def _results_section(ds: xr.Dataset, contacts: Table | None) -> Section:
+    """Peaks per building, histories, envelopes, contacts and impacts, energy ledger."""
+    res = Section("Results")
+    s = ds.pounding.summary()
+    res.blocks.append(
+        Table(
+            [
+                "building",
+                "T1 [s]",
+                "peak displacement [m]",
+                "peak drift ratio [-]",
+                "peak absolute acceleration [m/s²]",
+            ],
+            [
+                [
+                    name,
+                    _g(b["T1"]),
+                    _g(b["peak_displacement"]),
+                    _g(b["peak_drift_ratio"]),
+                    _g(b["peak_absolute_acceleration"]),
+                ]
+                for name, b in s["buildings"].items()
+            ],
+        )
+    )
+    res.blocks.append(
+        Plot(
+            plots.displacement_histories(ds),
+            "Floor displacements relative to the ground; ▼ marks the start of each impact on that floor.",
+        )
+    )
+    res.blocks.append(
+        Plot(
+            plots.envelopes(ds),
+            "Peak displacement and peak inter-story drift ratio over the height.",
+        )
+    )
+    if contacts:
+        res.blocks.append(contacts)
+        res.blocks.append(
+            Plot(
+                plots.contact_forces(ds), "Contact force histories of the gap elements that closed."
+            )
+        )
+        res.blocks.append(
+            Plot(
+                plots.force_penetration([(str(ds["contact_law"].values[0]), ds)]),
+                "Force–penetration loop of the gap element with the largest force (output grid).",
+            )
+        )
+        res.blocks.append(_impacts_table(ds))
+    res.blocks.append(
+        Plot(
+            plots.energy(ds),
+            f"Energy ledger; balance error {100 * s['energy_balance_error']:.3g} % of the input energy.",
+        )
+    )
+    return res
+
+
+def _isolation_section(ds: xr.Dataset) -> Section | None:
+    """Peak base displacements, base slab histories and bearing loops of the isolated buildings."""
+    isolated = plots.isolated_buildings(ds)
+    if not isolated:
+        return None
+    iso = Section("Base isolation")
+    peak = ds["peak_base_displacement"]
+    iso.blocks.append(
+        Table(
+            ["building", "peak base displacement [m]"],
+            [[b, _g(float(peak.sel(building=b)))] for b in isolated],
+            f"Energy dissipated by bearing friction: {100 * plots.friction_share(ds):.3g} % of the "
+            "input energy at the end of the record.",
+        )
+    )
+    iso.blocks.append(
+        Plot(
+            plots.base_displacements(ds),
+            "Base slab (bearing) displacement relative to the ground.",
+        )
+    )
+    iso.blocks.append(
+        Plot(
+            plots.bearing_hysteresis(ds),
+            "Bearing hysteresis loops: friction force (and friction plus the pendulum's restoring "
+            "force) against the base displacement.",
+        )
+    )
+    return iso
+
+
+def analysis_report(ds: xr.Dataset, store: Path | None = None) -> Report:
+    """The report of an analysis (from :func:`pounding.simulate`); ``store`` is not used."""
+    contacts = _contacts_table(ds) if ds.sizes.get("contact", 0) else None
+    model = _model_section(
+        ds,
+        _analysis_law_rows(ds) if contacts else [],
+        [Table(contacts.header[:5], [r[:5] for r in contacts.rows])] if contacts else [],
+    )
+    sections = [model, _ground_motion_section(ds, study=False), _results_section(ds, contacts)]
+    iso = _isolation_section(ds)
+    if iso is not None:
+        sections.append(iso)
+    meta = [
+        ("record", str(ds.attrs.get("record", ""))),
+        ("method", str(ds.attrs.get("method", ""))),
+        ("dt", f"{_g(ds.attrs.get('dt'))} s"),
+        ("output dt", f"{_g(ds.attrs.get('output_dt'))} s"),
+        ("pounding", str(ds.attrs.get("pounding_version", __version__))),
+    ]
+    return Report(str(ds.attrs.get("title") or "Pounding analysis"), "analysis", sections, meta)

@@ -1,0 +1,139 @@
+"""A report as a PDF with the HTML page's content: text and tables laid out on A4 pages with
+matplotlib's ``PdfPages``, then one page per figure."""
+
+from __future__ import annotations
+
+import textwrap
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+from matplotlib.backends.backend_pdf import PdfPages
+from matplotlib.figure import Figure
+
+from pounding._version import __version__
+from pounding.plots import plain_text
+from pounding.report.document import _RC, Plot, Report, Table
+
+
+class _PageWriter:
+    """Text and tables laid out top to bottom on A4 pages of a PdfPages."""
+
+    W, H, MARGIN = 8.27, 11.69, 0.6
+    #: widest table line [characters]: 6.2 pt monospace across the page
+    MAX_CHARS = 135
+
+    def __init__(self, pdf: PdfPages) -> None:
+        self.pdf = pdf
+        self.fig: Figure | None = None
+        self.y = 0.0
+
+    def _page(self) -> None:
+        self.flush()
+        self.fig = Figure(figsize=(self.W, self.H))
+        self.y = self.H - self.MARGIN
+
+    def flush(self) -> None:
+        if self.fig is not None:
+            self.pdf.savefig(self.fig)
+            self.fig = None
+
+    def line(
+        self,
+        text: str,
+        size: float = 9,
+        *,
+        weight: str = "normal",
+        family: str = "sans-serif",
+        gap: float = 0.0,
+    ) -> None:
+        height = size * 1.45 / 72 + gap
+        if self.fig is None or self.y - height < self.MARGIN:
+            self._page()
+        self.y -= height
+        self.fig.text(
+            self.MARGIN / self.W,
+            self.y / self.H,
+            plain_text(text),  # user text ($, _, ^) is not mathtext
+            fontsize=size,
+            weight=weight,
+            family=family,
+            va="baseline",
+        )
+
+    def paragraph(self, text: str) -> None:
+        for ln in textwrap.wrap(text, 105) or [""]:
+            self.line(ln)
+        self.y -= 0.08
+
+    def table(self, table: Table) -> None:
+        cols = (
+            list(zip(*([table.header] + table.rows), strict=True))
+            if table.rows
+            else [[h] for h in table.header]
+        )
+        widths = [min(max(len(str(c)) for c in col), 48) for col in cols]
+        # narrow the widest columns until the table fits at a legible size; long cells wrap
+        while sum(widths) + 2 * (len(widths) - 1) > self.MAX_CHARS and max(widths) > 12:
+            widths[widths.index(max(widths))] -= 1
+        total = sum(widths) + 2 * (len(widths) - 1)
+        size = min(8.0, (self.W - 2 * self.MARGIN) * 72 / (0.61 * max(total, 1)))
+
+        def emit(row: Sequence[str], **kw: Any) -> None:
+            cells = [textwrap.wrap(str(c), w) or [""] for c, w in zip(row, widths, strict=True)]
+            for k in range(max(len(c) for c in cells)):
+                parts = [
+                    (c[k] if k < len(c) else "").ljust(w)
+                    for c, w in zip(cells, widths, strict=True)
+                ]
+                self.line("  ".join(parts).rstrip(), size, family="monospace", **kw)
+
+        emit(table.header, weight="bold", gap=0.05)
+        for row in table.rows:
+            emit(row)
+        if table.caption:
+            for ln in textwrap.wrap(table.caption, 120):
+                self.line(ln, 7.5)
+        self.y -= 0.12
+
+
+def render_pdf(report: Report, path: str | Path) -> Path:
+    """The same content as the HTML: text and tables on A4 pages, one page per figure."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with (
+        matplotlib.rc_context(_RC),
+        PdfPages(
+            path, metadata={"Title": report.title, "Creator": f"pounding {__version__}"}
+        ) as pdf,
+    ):
+        w = _PageWriter(pdf)
+        w.line(report.title, 16, weight="bold")
+        w.line(f"pounding {report.kind} report", 10, gap=0.05)
+        for key, value in report.meta:
+            w.line(f"{key}: {value}", 8.5)
+        w.y -= 0.15
+        for n, sec in enumerate(report.sections, 1):
+            w.line(f"{n}. {sec.title}", 13, weight="bold", gap=0.15)
+            figures: list[Plot] = []
+            for b in sec.blocks:
+                if isinstance(b, str):
+                    w.paragraph(b)
+                elif isinstance(b, Table):
+                    w.table(b)
+                else:
+                    figures.append(b)
+                    for ln in textwrap.wrap(f"Figure {n}.{len(figures)}: {b.caption}", 115):
+                        w.line(ln, 8.5)
+            if figures:  # figures take pages of their own; text-only sections share pages
+                w.flush()
+            for k, p in enumerate(figures, 1):
+                fig = p.figure
+                fig.suptitle(
+                    plain_text(f"{n}. {sec.title} - figure {n}.{k}"), fontsize=9, x=0.02, ha="left"
+                )
+                pdf.savefig(fig)
+                fig.suptitle("")
+        w.flush()
+    return path
