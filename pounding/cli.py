@@ -96,10 +96,6 @@ def _main(
 # --- analysis verbs ---
 
 
-def _fmt_si(value: float, unit: str) -> str:
-    return f"{value:.4g} {unit}"
-
-
 def _print_summary(result: Any, path: str | None) -> None:
     """Print the summary of a :class:`pounding._schema.ResultVariables` (no xarray needed)."""
     from pounding._schema import summary

@@ -142,7 +142,7 @@ IMP_START, IMP_END, IMP_V0, IMP_VEND, IMP_FMAX, IMP_DMAX, IMP_IMPULSE = range(7)
 #: Layout of the integer counters array.
 CNT_IMPACTS, CNT_SUBSTEPS, CNT_NEWTON, CNT_LOCATED, CNT_STATUS, CNT_HALVINGS = range(6)
 CNT_FRICTION = 6  # located stick-slip events
-STATUS_OK, STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 0, 1, 2
+STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 1, 2  # 0: success
 #: The dense map is used for the open-gap step while its 3n² products cost less than this many times
 #: the band products 3n(2 bw + 1) (small systems, where loop overhead dominates the band form).
 DENSE_MAP_RATIO = 0.35
