@@ -34,8 +34,9 @@ from pounding._schema import ResultVariables, result_variables
 from pounding._version import __version__
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
+from pounding.integrators import get_integrator
 from pounding.integrators.base import RawResult
-from pounding.integrators.ivp import IVP_METHODS, integrate_ivp
+from pounding.integrators.ivp import IVP_METHODS
 from pounding.integrators.newmark import (
     SCHEMES,
     contact_duration_coefficients,
@@ -47,7 +48,7 @@ from pounding.system import PoundingSystem
 if TYPE_CHECKING:  # xarray (and pandas) cost ~0.3 s to import: only when a Dataset is built
     import xarray as xr
 
-#: Integration methods by name: the Newmark family (compiled loop) and ``ivp`` (scipy solve_ivp).
+#: Integration methods by name (pounding.integrators.INTEGRATORS, with the alias average_acceleration).
 METHODS = (*SCHEMES, "ivp")
 
 #: Default steps per shortest natural period and per contact duration (benchmarks/accuracy_defaults.py:
@@ -275,14 +276,8 @@ def run(
         "dt_chosen": int(opts.dt is None),
     }
     if opts.method == "ivp":
-        raw = integrate_ivp(
-            system,
-            ground,
-            output_times=output_dt * np.arange(n_out + 1),
-            method=opts.ivp_method,
-            rtol=opts.rtol,
-            atol=opts.atol,
-        )
+        integrator = get_integrator("ivp", method=opts.ivp_method, rtol=opts.rtol, atol=opts.atol)
+        raw = integrator.integrate(system, ground, output_times=output_dt * np.arange(n_out + 1))
     else:
         raw = integrate_newmark(
             system,
@@ -290,9 +285,9 @@ def run(
             dt=dt,
             output_every=every,
             n_steps=n_out * every,
-            scheme=get_scheme(opts.method, alpha=opts.alpha)
-            if opts.method == "hht"
-            else opts.method,
+            scheme=get_integrator(
+                opts.method, **({"alpha": opts.alpha} if opts.method == "hht" else {})
+            ),
             tol=opts.tol,
             max_iter=opts.max_iter,
             max_halvings=opts.max_halvings,

@@ -11,6 +11,7 @@ import pytest
 from pounding.contact.calibrate import effective_restitution
 from pounding.contact.laws import LAWS_BY_ID
 from pounding.ground_motion import GroundMotion, harmonic, sine_pulse
+from pounding.integrators import METHODS
 from pounding.integrators.base import ConvergenceError
 from pounding.integrators.newmark import HHT, get_scheme, integrate_newmark
 from pounding.simulate import simulate
@@ -26,12 +27,15 @@ ELCENTRO = (
     / "elcentro_1940_ns_g_dt002.txt"
 )
 
+#: every Newmark-family method of the registry (the compiled loop)
+NEWMARK_METHODS = [m for m in METHODS if m != "ivp"]
+
 
 def _sdof(period: float, mass: float = 1.0e5, xi: float = 0.05, name: str = "A") -> ShearBuilding:
     return ShearBuilding.uniform(name, 1, period=period, mass=mass, damping=ModalDamping((xi,)))
 
 
-@pytest.mark.parametrize("method", ["newmark", "linear_acceleration", "hht"])
+@pytest.mark.parametrize("method", NEWMARK_METHODS)
 def test_chopra_harmonic_steady_state_amplitude(method):
     # Chopra, Dynamics of Structures, §3.2: steady-state amplitude of u'' + 2ξωu' + ω²u = -A sin Ωt
     # is A / (ω² sqrt((1 - r²)² + (2ξr)²)), r = Ω/ω.
@@ -430,3 +434,19 @@ def test_step_plan_fits_whole_steps_into_each_output_and_run_follows_it(options,
     raw, info = run(system, gm, opts)
     assert info["dt"] == dt and info["duration"] == pytest.approx(n_out * output_dt)
     assert raw.displacement.shape[0] == n_out + 1
+
+
+def test_every_method_of_the_registry_is_an_integrator_and_unknown_names_list_them():
+    from pounding.integrators import INTEGRATORS, get_integrator
+    from pounding.integrators.ivp import SolveIVP
+    from pounding.simulate import METHODS as SIMULATE_METHODS
+
+    assert set(METHODS) <= set(INTEGRATORS) and set(INTEGRATORS) == set(SIMULATE_METHODS)
+    for name in METHODS:
+        assert get_integrator(name).name in (name, "newmark")
+    assert isinstance(get_integrator("ivp", rtol=1e-9), SolveIVP)
+    assert get_integrator(HHT, alpha=-0.1).alpha == -0.1
+    with pytest.raises(ValueError, match="analysis.method = 'leapfrog'; allowed: .*hht.*ivp"):
+        get_integrator("leapfrog")
+    with pytest.raises(ValueError, match="ivp_method = 'Euler'"):
+        get_integrator("ivp", method="Euler")

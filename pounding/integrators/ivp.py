@@ -728,6 +728,29 @@ def _stick_slip(model: _Model, y: np.ndarray, t: float, fired: list[int]) -> int
     return switched
 
 
+class SolveIVP:
+    """The reference integrator: :func:`scipy.integrate.solve_ivp` with contact events
+    (:func:`integrate_ivp`), with its ``method``, ``rtol`` and ``atol``."""
+
+    name = "ivp"
+
+    def __init__(self, method: str = "DOP853", rtol: float = 1e-8, atol: float | None = None):
+        if method not in IVP_METHODS:
+            raise PoundingInputError(
+                f"analysis.ivp_method = {method!r}; allowed: {', '.join(IVP_METHODS)}"
+            )
+        self.method, self.rtol, self.atol = method, float(rtol), atol
+
+    def integrate(
+        self, system: PoundingSystem, ground: GroundMotion, *, output_times: np.ndarray
+    ) -> RawResult:
+        """:func:`integrate_ivp` with this integrator's options."""
+        return integrate_ivp(
+            system, ground, output_times=output_times, method=self.method, rtol=self.rtol,
+            atol=self.atol,
+        )  # fmt: skip
+
+
 def integrate_ivp(
     system: PoundingSystem,
     ground: GroundMotion,
