@@ -1124,7 +1124,7 @@ def _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
 def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, alpha,
                 el_dof, el_sign, el_gap, el_law, el_params, below,
                 fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_normal,
-                tol, max_iter, max_halvings, locate_onset, d_tol,
+                tol, max_iter, max_halvings, locate_onset, d_tol, v0_floor,
                 adaptive, steps_per_contact, el_tc_coef, el_tc_exp,
                 out_u, out_v, out_a, out_ag, out_d, out_f, out_e, out_ff, out_st,
                 peak_u, peak_drift, peak_aabs, peak_f, peak_d,
@@ -1647,7 +1647,8 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                         t_on = t + th * hs
                     onset = True
                     el_in[c] = True
-                    el_v0[c] = max(vc, 0.0)
+                    # a v0-scaled law sees at least v0_floor (integrators.base.V0_FRACTION)
+                    el_v0[c] = max(vc, v0_floor)
                     el_hd[c] = 0.0
                     el_hf[c] = 0.0
                     i_imp = counters[CNT_IMPACTS]
@@ -1659,7 +1660,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     imp_el[i_imp] = c
                     imp_val[i_imp, IMP_START] = t_on
                     imp_val[i_imp, IMP_END] = np.nan
-                    imp_val[i_imp, IMP_V0] = el_v0[c]
+                    imp_val[i_imp, IMP_V0] = max(vc, 0.0)
                     imp_val[i_imp, IMP_VEND] = np.nan
                     imp_val[i_imp, IMP_FMAX] = 0.0
                     imp_val[i_imp, IMP_DMAX] = 0.0

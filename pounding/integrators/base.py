@@ -98,3 +98,17 @@ def response_scales(system: PoundingSystem, ground: GroundMotion) -> tuple[float
         elif b.base is not None and pgv > 0.0 and ground.pga > 0.0:
             omega1 = min(omega1, ground.pga / pgv)
     return min(pgv, ground.pga / omega1), omega1
+
+
+#: A v0-scaled law (Kelvin's c, the Hunt-Crossley family's χ = α/v0) is evaluated at the impact's
+#: approach speed, but at least this fraction of the response's velocity scale v_c
+#: (:func:`response_scales`): a contact that starts from rest or grazes in (buildings touching at
+#: zero gap, a push that closes a gap quasi-statically) would otherwise get a damping set by the
+#: integrator's numerics (one step's speed, a tolerance) instead of by the problem. Impacts that slow
+#: carry under 1e-4 of the response's kinetic energy, so the floor does not change what they dissipate.
+V0_FRACTION = 1e-2
+
+
+def v0_floor(system: PoundingSystem, ground: GroundMotion) -> float:
+    """The smallest approach speed [m/s] a v0-scaled law is evaluated at: V0_FRACTION v_c."""
+    return V0_FRACTION * response_scales(system, ground)[0]

@@ -79,7 +79,13 @@ from pounding.integrators._kernels import (
     friction_hysteretic_eval,
     jit,
 )
-from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, RawResult, response_scales
+from pounding.integrators.base import (
+    ENERGY_TERMS,
+    IMPACT_FIELDS,
+    RawResult,
+    response_scales,
+    v0_floor,
+)
 from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB, PoundingSystem
 
 #: solve_ivp methods this path accepts.
@@ -324,6 +330,7 @@ class _Model:
         # history variables (per contact phase)
         self.v0 = np.zeros(ne)
         self.d_tol = 0.0  # [m], set by tolerances()
+        self.v0_floor = 0.0  # [m/s], set by tolerances()
         # a_g(t) = ag[0] + ag[1] (t − ag[2]) on the current ground-motion segment
         self.ag = np.zeros(3)
         self._ws = np.zeros((5, ne))  # workspace of the compiled right-hand side
@@ -469,6 +476,7 @@ class _Model:
         factor = rtol if atol is None else atol / u_c
         # penetrations below ten displacement tolerances are round-off, not contact (see _events)
         self.d_tol = 10.0 * factor * u_c
+        self.v0_floor = v0_floor(system, ground)
         return factor * scale, factor * u_c
 
 
@@ -958,7 +966,7 @@ def _switch(
             rec.close_contact(c, t, float(dd[c]), float(impulse[c]))
             in_contact[c] = False
         else:
-            model.v0[c] = dd[c]
+            model.v0[c] = max(dd[c], model.v0_floor)
             k = np.searchsorted(model.bil, c)
             if k < model.bil.size and model.bil[k] == c:
                 y[model.ifb.start + k] = 0.0

@@ -58,6 +58,7 @@ from pounding.integrators.base import (
     ConvergenceError,
     RawResult,
     response_scales,
+    v0_floor,
 )
 from pounding.system import PoundingSystem
 
@@ -257,7 +258,7 @@ def integrate_newmark(
             x_dof, x_sign, el.el_gap, el.el_law, el.el_params, system.below,
             fr.fr_dof, fr.fr_kind, fr.fr_law, fr.fr_params, fr.fr_bouc_wen, fr.fr_normal,
             float(tol), int(max_iter), int(max_halvings), bool(locate_onset),
-            penetration_tolerance(system, ground, tol),
+            penetration_tolerance(system, ground, tol), v0_floor(system, ground),
             bool(adaptive), float(steps_per_contact), *contact_duration_coefficients(system),
             out["u"], out["v"], out["a"], out["ag"], out["d"], out["f"], out["e"], out["ff"],
             out["st"], *peaks, imp_el, imp_val, counters,
