@@ -133,7 +133,9 @@ class PoundingAccessor:
 
     def impacts(self) -> pd.DataFrame:
         """One row per impact: contact, start, end [s], v0 [m/s], peak force [N], max penetration [m],
-        impulse [N s] and the rebound/approach speed ratio (−v_end/v0, NaN while still in contact)."""
+        impulse [N s] and the rebound/approach speed ratio (−v_end/v0; NaN while still in contact, and
+        for a contact that closed slower than the run's v0 floor, attribute ``v0_floor``: one that
+        started from rest has no rebound ratio)."""
         ds = self._ds
         if "impact" not in ds.dims or ds.sizes["impact"] == 0:
             cols = ["contact", "start", "end", "v0", "peak_force", "max_penetration", "impulse"]
@@ -150,8 +152,10 @@ class PoundingAccessor:
             }
         )
         v0 = df["v0"].to_numpy()
+        floor = float(ds.attrs.get("v0_floor", 0.0))
         with np.errstate(divide="ignore", invalid="ignore"):
-            df["restitution"] = np.where(v0 > 0, -ds["impact_v_end"].values / v0, np.nan)
+            ratio = -ds["impact_v_end"].values / v0
+        df["restitution"] = np.where((v0 > 0) & (v0 >= floor), ratio, np.nan)
         return df
 
     def summary(self) -> dict[str, Any]:

@@ -934,6 +934,7 @@ def integrate_ivp(
             n_steps=n_steps,
             n_calls=n_calls,
             samples_per_step=SAMPLES_PER_STEP,
+            v0_floor=model.v0_floor,
         ),
     )
 

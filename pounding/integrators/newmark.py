@@ -233,6 +233,7 @@ def integrate_newmark(
     n, n_el, n_fr = system.n_dof, len(el), len(fr)
     n_out = n_steps // output_every + 1
     # gap elements followed by one row per friction element: a base dof with sign +1
+    floor = v0_floor(system, ground)
     x_dof = np.vstack((el.el_dof, np.column_stack((fr.fr_dof, -np.ones(n_fr, dtype=np.int64)))))
     x_sign = np.vstack((el.el_sign, np.column_stack((np.ones(n_fr), np.zeros(n_fr)))))
     while True:
@@ -258,7 +259,7 @@ def integrate_newmark(
             x_dof, x_sign, el.el_gap, el.el_law, el.el_params, system.below,
             fr.fr_dof, fr.fr_kind, fr.fr_law, fr.fr_params, fr.fr_bouc_wen, fr.fr_normal,
             float(tol), int(max_iter), int(max_halvings), bool(locate_onset),
-            penetration_tolerance(system, ground, tol), v0_floor(system, ground),
+            penetration_tolerance(system, ground, tol), floor,
             bool(adaptive), float(steps_per_contact), *contact_duration_coefficients(system),
             out["u"], out["v"], out["a"], out["ag"], out["d"], out["f"], out["e"], out["ff"],
             out["st"], *peaks, imp_el, imp_val, counters,
@@ -311,5 +312,6 @@ def integrate_newmark(
             "n_halvings": int(counters[kn.CNT_HALVINGS]),
             "n_friction_events": int(counters[kn.CNT_FRICTION]),
             "adaptive": int(bool(adaptive)),
+            "v0_floor": floor,
         },
     )
