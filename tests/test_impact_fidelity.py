@@ -74,22 +74,25 @@ def test_free_mass_kicked_into_a_wall_rebounds_at_the_laws_own_restitution(law):
 
 
 @pytest.mark.skipif(not EL_CENTRO.is_file(), reason="../shared/data (El Centro record) not present")
+@pytest.mark.parametrize("law", ["linear", "hertz"])
 @pytest.mark.parametrize("method", ["newmark", "hht"])
-def test_undamped_elastic_row_keeps_its_energy_over_a_thousand_impacts(method):
+def test_undamped_elastic_row_keeps_its_energy_over_a_thousand_impacts(method, law):
     # Three undamped buildings in a row (3, 6 and 10 storeys) pound through elastic linear contacts:
     # 15 s of El Centro NS, then 15 s of free vibration, ~1200 impacts. Mechanical energy rose by
     # 7.9 % of the input and contact_dissipated read -11 % (energy created where a step carried a
     # contact force past the separation). Now the free part keeps it to 1e-3 of the input (average
     # acceleration: exactly, to round-off), and the ledger closes; HHT's numerical damping is the
-    # `algorithmic` term.
+    # `algorithmic` term. Hertz contacts (a stiffening law: the trapezoidal work errs where F is
+    # curved) read -2.76e-4 while only the onset was graded; grading the separation alike brings
+    # it within 1e-4.
     rec = read_record(EL_CENTRO, units="g", dt=0.02)
     n15 = int(round(15.0 / rec.dt))
     acc = np.concatenate([rec.acceleration[:n15], np.zeros(n15)])
     ground = GroundMotion(acc, rec.dt, name="El Centro 15 s, then free vibration")
     a, b, c = _undamped("A", 3, 0.3), _undamped("B", 6, 0.65), _undamped("C", 10, 1.1)
     contacts = [
-        Contact("A", "B", gap=0.005, law="linear", k=2.75e9),
-        Contact("B", "C", gap=0.01, law="linear", k=2.75e9),
+        Contact("A", "B", gap=0.005, law=law, k=2.75e9),
+        Contact("B", "C", gap=0.01, law=law, k=2.75e9),
     ]
     ds = simulate(assemble([a, b, c], contacts), ground, method=method)
     assert len(ds.pounding.impacts()) > 500

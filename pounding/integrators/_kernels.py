@@ -150,6 +150,10 @@ DENSE_MAP_RATIO = 0.35
 EVENT_FRACTION = 1e-3
 #: After an onset (adaptive stepping) the contact step starts 2^GRADED_STEPS times smaller and doubles.
 GRADED_STEPS = 6
+#: A contact step is stretched by up to this fraction to end at the base step's end.
+SLIVER = 1e-2
+#: A step shorter than this fraction of the base step restarts its end acceleration from equilibrium.
+SHORT_STEP = 1e-3
 #: Columns of the friction state (one row per friction element): stuck (1/0), sliding direction
 #: (±1), Bouc-Wen z at the step start, force at the step start [N], trial force [N], trial z,
 #: trial tangent ∂f/∂u_b [N/m] (inf for a stuck slab: a constraint).
@@ -1213,6 +1217,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
         pg = np.zeros(0)
     h_contact = h
     grade = 0
+    h_sep = np.inf  # largest step that keeps a receding contact's separation graded
     # the contact step size's tangent: filled in place (arrays reassigned inside the loop would cost
     # reference-count traffic on every step)
     J_inv_c = J_inv.copy()
@@ -1274,7 +1279,11 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                 # with onset location, trial steps hold every open gap open: a closure is then located
                 # on the smooth contact-free motion, not on a trial that already bounced off the contact
                 open_off[c] = locate_onset and not el_in[c]
-            hs = min((h_contact * 0.5**grade if in_contact else h) * scale, t_next - t)
+            hs = (min(h_contact * 0.5**grade, h_sep) if in_contact else h) * scale
+            if t_next - t - hs < SLIVER * hs:
+                # end at the base step rather than leave a sliver: a step of 1e-9 h turns the
+                # round-off of u into an acceleration error of order c0 ε u = 4 ε u / hs²
+                hs = t_next - t
             if abs(hs - h) <= 1e-8 * h:
                 hs = h  # a full base step: (k + 1) h − k h is not bit-equal to h
             ok = True
@@ -1707,11 +1716,23 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     if el_in[c]:
                         tc = el_tc_coef[c] * max(el_v0[c], 1e-3) ** el_tc_exp[c]
                         h_contact = min(h_contact, tc / steps_per_contact)
-            if onset:
-                # a law whose force jumps at δ = 0⁺ (c v0) changes the acceleration at the onset:
-                # restart the next step from equilibrium with that force, not the pre-impact one
-                _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0,
-                               el_hd, el_hf, none_off, d1, dd1, f1, kd1, cd1)  # fmt: skip
+                # the separation mirrors the onset: steps halve the time left to it (linear
+                # estimate) down to the first graded step, so the trapezoidal work of a stiffening
+                # law errs alike going in and coming out instead of only coming out
+                h_sep = np.inf
+                for c in range(n_el):
+                    if el_in[c] and dd1[c] < 0.0 and d1[c] > 0.0:
+                        t_sep = d1[c] / -dd1[c]
+                        if t_sep < 2.0 * h_contact:
+                            h_sep = min(h_sep, max(0.5 * t_sep, h_contact * 0.5**GRADED_STEPS))
+            if onset or hs < SHORT_STEP * h:
+                if onset:
+                    # a law whose force jumps at δ = 0⁺ (c v0) changes the acceleration at the
+                    # onset: restart the next step from equilibrium with that force
+                    _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in,
+                                   el_v0, el_hd, el_hf, none_off, d1, dd1, f1, kd1, cd1)  # fmt: skip
+                # after a short step (a located event) too: a1 = c0 (u1 − u) − … turns the
+                # round-off of u1 into an error 4 ε |u| / hs² that the next step would integrate
                 # a stuck slab hit by a jumping contact force may break away at once
                 _equilibrium(g1, u1, v1, a1, M_inv, Mi, C, K, el_dof, el_sign, f1, n_el,
                              fr_dof, fr_kind, fr_params, fr_normal, fr_state, R)  # fmt: skip
