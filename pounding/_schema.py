@@ -65,6 +65,19 @@ ATTRS: dict[str, dict[str, str]] = {
         "long_name": "peak absolute floor acceleration",
     },
     "peak_contact_force": {"units": "N", "long_name": "peak contact force"},
+    "story_shear": {
+        "units": "N",
+        "long_name": "story shear (spring and damping force the story carries, from equilibrium of the floors above)",
+    },
+    "base_shear": {"units": "N", "long_name": "base shear (story shear of the lowest story)"},
+    "peak_story_shear": {
+        "units": "N",
+        "long_name": "peak absolute story shear (over the stored output steps)",
+    },
+    "peak_base_shear": {
+        "units": "N",
+        "long_name": "peak absolute base shear (over the stored output steps)",
+    },
     "peak_penetration": {"units": "m", "long_name": "peak penetration"},
     "impact_count": {"units": "1", "long_name": "number of impacts"},
     "impact_contact": {"units": "1", "long_name": "gap element of the impact"},
@@ -98,6 +111,51 @@ ATTRS: dict[str, dict[str, str]] = {
         "long_name": "peak absolute base slab (bearing) displacement",
     },
 }
+
+
+#: Peaks compared with the no-contact run: name -> (its building-maximum ratio, the ratio per
+#: story or floor). The building ratios are the study Dataset's names.
+AMPLIFIED = {
+    "peak_displacement": ("displacement_amplification", None),
+    "peak_drift_ratio": ("drift_amplification", "story_drift_amplification"),
+    "peak_absolute_acceleration": (
+        "acceleration_amplification",
+        "floor_acceleration_amplification",
+    ),
+}
+ATTRS.update(
+    {
+        "displacement_amplification": {
+            "units": "1",
+            "long_name": "peak displacement with contact / without (building maximum)",
+        },
+        "drift_amplification": {
+            "units": "1",
+            "long_name": "peak drift ratio with contact / without (building maximum)",
+        },
+        "acceleration_amplification": {
+            "units": "1",
+            "long_name": "peak absolute floor acceleration with contact / without (building maximum)",
+        },
+        "story_drift_amplification": {
+            "units": "1",
+            "long_name": "peak drift ratio of the story with contact / without",
+        },
+        "floor_acceleration_amplification": {
+            "units": "1",
+            "long_name": "peak absolute acceleration of the floor with contact / without",
+        },
+        "impact_story_shear": {
+            "units": "N",
+            "long_name": "peak story shear with contact minus without (the part the impacts add)",
+        },
+    }
+)
+for _name in (*AMPLIFIED, "peak_story_shear", "peak_base_shear"):
+    ATTRS["no_contact_" + _name] = {
+        "units": ATTRS[_name]["units"],
+        "long_name": ATTRS[_name]["long_name"] + ", no contact",
+    }
 
 
 def _padded(values: list[np.ndarray], width: int, lead: tuple[int, ...] = ()) -> np.ndarray:
@@ -154,6 +212,7 @@ def result_variables(
 
     el = system.elements
     n_el = len(el)
+    shear = per_building(_floor_shears(system, raw, slices))
     modes = [b.modal() for b in bl]
     # scaled to 1 at the roof (at the top-most moving floor for a mode that leaves the roof still)
     shapes = [
@@ -171,6 +230,8 @@ def result_variables(
             "absolute_acceleration": (("time", "building", "floor"), a_abs),
             "drift": (("time", "building", "story"), drift),
             "drift_ratio": (("time", "building", "story"), drift / heights),
+            "story_shear": (("time", "building", "story"), shear),
+            "base_shear": (("time", "building"), shear[:, :, 0]),
             "penetration": (("time", "contact"), raw.penetration.reshape(nt, n_el)),
             "contact_force": (("time", "contact"), raw.contact_force.reshape(nt, n_el)),
             "ground_acceleration": (("time",), raw.ground_acceleration),
@@ -181,6 +242,8 @@ def result_variables(
                 ("building", "floor"),
                 per_building(raw.peak_absolute_acceleration),
             ),
+            "peak_story_shear": (("building", "story"), _abs_max(shear)),
+            "peak_base_shear": (("building",), _abs_max(shear[:, :, 0])),
             "peak_contact_force": (("contact",), raw.peak_contact_force),
             "peak_penetration": (("contact",), raw.peak_penetration),
             "impact_count": (
@@ -257,6 +320,72 @@ def result_variables(
     return ResultVariables(variables, list(coords), attrs)
 
 
+def with_baseline(result: ResultVariables, baseline: ResultVariables) -> ResultVariables:
+    """``result`` with the peaks of the same analysis without contacts (``no_contact_peak_*``), the
+    amplifications (with / without: per building as in a study, per story and floor) and the story
+    shear the impacts add; ``baseline`` is that no-contact run's result."""
+    out = dict(result.variables)
+    attrs = dict(result.attrs)
+
+    def put(name: str, dims: tuple[str, ...], values: np.ndarray) -> None:
+        out[name] = (dims, np.asarray(values), dict(ATTRS[name]))
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for peak, (building_ratio, local_ratio) in AMPLIFIED.items():
+            dims, with_contact, _ = result.variables[peak]
+            without = baseline.variables[peak][1]
+            put("no_contact_" + peak, dims, without)
+            put(building_ratio, ("building",), _row_max(with_contact) / _row_max(without))
+            if local_ratio:
+                put(local_ratio, dims, with_contact / without)
+        for peak in ("peak_story_shear", "peak_base_shear"):
+            put("no_contact_" + peak, result.variables[peak][0], baseline.variables[peak][1])
+        dims, shear, _ = result.variables["peak_story_shear"]
+        put("impact_story_shear", dims, shear - baseline.variables["peak_story_shear"][1])
+    # data variables before the coordinates, as the writer expects them
+    ordered = {k: v for k, v in out.items() if k not in result.coords}
+    ordered.update({k: out[k] for k in result.coords})
+    attrs["baseline"] = "no-contact run of the same analysis (peaks no_contact_*)"
+    return ResultVariables(ordered, list(result.coords), attrs)
+
+
+def _row_max(values: np.ndarray) -> np.ndarray:
+    """Maximum over the last axis ignoring NaN padding (NaN for an all-NaN row)."""
+    out = np.full(values.shape[:-1], np.nan)
+    finite = ~np.all(np.isnan(values), axis=-1)
+    out[finite] = np.nanmax(values[finite], axis=-1)
+    return out
+
+
+def _floor_shears(system: PoundingSystem, raw: RawResult, slices: list[slice]) -> np.ndarray:
+    """Story shear [N] under every floor dof (time × dof): V_i = Σ_{j ≥ i} (K u + C v)_j over the
+    building's floors, taken from their equilibrium, −Σ_{j ≥ i} (m_j ü_j^abs + Σ_c s_cj f_c), so the
+    damping (whatever its form) and the contact forces on the floors above are in it. For a shear
+    building Σ_{j ≥ i} (K u)_j = k_i (u_i − u_{i−1}): the spring part is k_i times the drift."""
+    m = np.diag(system.mass)
+    floor_force = m * (raw.acceleration + raw.ground_acceleration[:, None] * system.influence)
+    el = system.elements
+    nt = raw.time.size
+    f = raw.contact_force.reshape(nt, len(el))
+    for side in range(2):
+        dof = el.el_dof[:, side]
+        hit = dof >= 0
+        np.add.at(floor_force.T, dof[hit], (el.el_sign[hit, side] * f[:, hit]).T)
+    shear = np.zeros_like(floor_force)
+    for s in slices:
+        # floors of a building are consecutive dofs, lowest first: sum from the roof down
+        shear[:, s] = -np.cumsum(floor_force[:, s][:, ::-1], axis=1)[:, ::-1]
+    return shear
+
+
+def _abs_max(values: np.ndarray) -> np.ndarray:
+    """max_t |x| over the first axis, NaN where every value is NaN (padding)."""
+    out = np.full(values.shape[1:], np.nan)
+    finite = ~np.all(np.isnan(values), axis=0)
+    out[finite] = np.nanmax(np.abs(values[:, finite]), axis=0)
+    return out
+
+
 def _isolation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tuple]:
     """Base slab and bearing variables per building (NaN for fixed-base buildings)."""
     bl = system.buildings
@@ -323,6 +452,23 @@ def summary(variables: Mapping[str, tuple[tuple[str, ...], Any, Any]], attrs: Ma
             "peak_drift_ratio": _nanmax(val("peak_drift_ratio")[i]),
             "peak_absolute_acceleration": _nanmax(val("peak_absolute_acceleration")[i]),
         }
+        entry["peak_base_shear"] = float(val("peak_base_shear")[i])
+        if "drift_amplification" in variables:
+            entry["no_contact"] = {
+                "peak_displacement": _nanmax(val("no_contact_peak_displacement")[i]),
+                "peak_drift_ratio": _nanmax(val("no_contact_peak_drift_ratio")[i]),
+                "peak_absolute_acceleration": _nanmax(
+                    val("no_contact_peak_absolute_acceleration")[i]
+                ),
+                "peak_base_shear": float(val("no_contact_peak_base_shear")[i]),
+            }
+            for ratio in (
+                "displacement_amplification",
+                "drift_amplification",
+                "acceleration_amplification",
+            ):
+                entry[ratio] = float(val(ratio)[i])
+            entry["max_impact_story_shear"] = _nanmax(val("impact_story_shear")[i])
         if "peak_base_displacement" in variables:
             base = float(val("peak_base_displacement")[i])
             if math.isfinite(base):

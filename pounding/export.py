@@ -143,10 +143,17 @@ def _history_long(ds: xr.Dataset) -> pd.DataFrame:
     return pd.concat(frames, ignore_index=True)
 
 
+def _peak_like(name: str) -> bool:
+    """Peaks, the no-contact baseline's peaks and their comparisons (per floor or story)."""
+    return name.startswith(("peak_", "no_contact_peak_")) or name.endswith(
+        ("_amplification", "impact_story_shear")
+    )
+
+
 def _analysis_tables(ds: xr.Dataset, histories: Histories) -> dict[str, pd.DataFrame]:
     tables: dict[str, pd.DataFrame] = {}
-    floor = [v for v in _dims_vars(ds, ("building", "floor"), True) if v.startswith("peak_")]
-    story = [v for v in _dims_vars(ds, ("building", "story"), True) if v.startswith("peak_")]
+    floor = [v for v in _dims_vars(ds, ("building", "floor"), True) if _peak_like(v)]
+    story = [v for v in _dims_vars(ds, ("building", "story"), True) if _peak_like(v)]
     tables["peaks"] = _level_frame(ds, [], floor, story)
     contact = _dims_vars(ds, ("contact",), True)
     if ds.sizes.get("contact", 0):

@@ -133,13 +133,17 @@ class PoundingAccessor:
 
     def impacts(self) -> pd.DataFrame:
         """One row per impact: contact, start, end [s], v0 [m/s], peak force [N], max penetration [m],
-        impulse [N s] and the rebound/approach speed ratio (−v_end/v0; NaN while still in contact, and
-        for a contact that closed slower than the run's v0 floor, attribute ``v0_floor``: one that
-        started from rest has no rebound ratio)."""
+        impulse [N s], the rebound/approach speed ratio ``rebound_ratio`` (−v_end/v0; NaN while still
+        in contact, and for a contact that closed slower than the run's v0 floor, attribute
+        ``v0_floor``: one that started from rest has no rebound ratio) beside the contact law's
+        nominal coefficient of restitution ``nominal_e`` (NaN for an elastic law). In a row of
+        buildings the rebound ratio is not the law's e: the floors behind the struck one keep
+        pushing or pull away (values above 1 occur). ``restitution`` is the former name of
+        ``rebound_ratio``, kept as an alias column."""
         ds = self._ds
         if "impact" not in ds.dims or ds.sizes["impact"] == 0:
             cols = ["contact", "start", "end", "v0", "peak_force", "max_penetration", "impulse"]
-            return pd.DataFrame(columns=[*cols, "restitution"])
+            return pd.DataFrame(columns=[*cols, "rebound_ratio", "nominal_e", "restitution"])
         df = pd.DataFrame(
             {
                 "contact": ds["impact_contact"].values,
@@ -155,7 +159,9 @@ class PoundingAccessor:
         floor = float(ds.attrs.get("v0_floor", 0.0))
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = -ds["impact_v_end"].values / v0
-        df["restitution"] = np.where((v0 > 0) & (v0 >= floor), ratio, np.nan)
+        df["rebound_ratio"] = np.where((v0 > 0) & (v0 >= floor), ratio, np.nan)
+        df["nominal_e"] = ds["contact_e"].values[df["contact"].to_numpy()]
+        df["restitution"] = df["rebound_ratio"]  # the former name
         return df
 
     def summary(self) -> dict[str, Any]:

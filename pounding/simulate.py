@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from pounding._schema import ResultVariables, result_variables
+from pounding._schema import ResultVariables, result_variables, with_baseline
 from pounding._version import __version__
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
@@ -43,7 +43,7 @@ from pounding.integrators.newmark import (
     get_scheme,
     integrate_newmark,
 )
-from pounding.system import PoundingSystem
+from pounding.system import PoundingSystem, assemble
 
 if TYPE_CHECKING:  # xarray (and pandas) cost ~0.3 s to import: only when a Dataset is built
     import xarray as xr
@@ -196,6 +196,8 @@ def _resolve(case_or_system: Any, ground: GroundMotion | None, options: dict[str
 def simulate(
     case_or_system: Any,
     ground: GroundMotion | None = None,
+    *,
+    baseline: bool = False,
     **options: Any,
 ) -> xr.Dataset:
     """Run one pounding analysis and return the results Dataset.
@@ -206,22 +208,39 @@ def simulate(
         A case from :func:`pounding.load_case`, or a system from :func:`pounding.system.assemble`.
     ground : GroundMotion, optional
         Ground motion (required with a system; overrides the case's record when given).
+    baseline : bool
+        Also run the same analysis without contacts and add its peaks (``no_contact_peak_*``), the
+        amplifications (``drift_amplification``, ``story_drift_amplification``, ...) and the story
+        shear the impacts add (``impact_story_shear``); ``pounding run`` does this by default.
     **options
         Any field of :class:`AnalysisOptions` (``method``, ``dt``, ``output_dt``, ``duration``, ...).
     """
     from pounding.results import to_dataset
 
-    return to_dataset(simulate_variables(case_or_system, ground, **options))
+    return to_dataset(simulate_variables(case_or_system, ground, baseline=baseline, **options))
 
 
 def simulate_variables(
     case_or_system: Any,
     ground: GroundMotion | None = None,
+    *,
+    baseline: bool = False,
     **options: Any,
 ) -> ResultVariables:
     """:func:`simulate` without building the ``xr.Dataset``: the same result as plain arrays
     (for the ``pounding run`` console process, which then needs neither xarray nor pandas)."""
     system, ground, opts, title = _resolve(case_or_system, ground, options)
+    result = _variables(system, ground, opts, title)
+    if baseline and len(system.elements):
+        free = assemble(system.buildings, ())
+        result = with_baseline(result, _variables(free, ground, opts, title))
+    return result
+
+
+def _variables(
+    system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions, title: str
+) -> ResultVariables:
+    """Integrate one system and wrap the raw result in the schema's variables."""
     raw, info = run(system, ground, opts)
     provenance = {
         "title": title,

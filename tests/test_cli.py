@@ -25,6 +25,31 @@ def test_run_prints_summary_and_writes_dataset(tmp_path):
     assert int(ds["impact_count"].sum()) > 0
 
 
+def test_run_reports_peaks_with_and_without_contact_by_default(tmp_path):
+    # The decision table leads: drift, acceleration, displacement and base shear with contact, in the
+    # no-contact run of the same analysis, and their ratio; --no-baseline skips that second run.
+    out = tmp_path / "r.nc"
+    res = runner.invoke(app, ["run", str(EXAMPLES / "two_sdof.toml"), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    lines = res.output.splitlines()
+    assert "pounding effect" in lines[2]
+    ds = open_result(out)
+    b = ds["building"].values[0]
+    row = next(line for line in lines if line.split()[:4] == [b, "peak", "drift", "ratio"])
+    with_c, without, ratio = (float(x) for x in row.split()[4:7])
+    assert with_c == pytest.approx(float(ds["peak_drift_ratio"].sel(building=b).max()), rel=1e-3)
+    assert without == pytest.approx(
+        float(ds["no_contact_peak_drift_ratio"].sel(building=b).max()), rel=1e-3
+    )
+    assert ratio == pytest.approx(float(ds["drift_amplification"].sel(building=b)), rel=1e-2)
+    res = runner.invoke(
+        app, ["run", str(EXAMPLES / "two_sdof.toml"), "--no-baseline", "-o", str(out)]
+    )
+    assert res.exit_code == 0, res.output
+    assert "pounding effect" not in res.output
+    assert "drift_amplification" not in open_result(out)
+
+
 def test_run_bad_case_is_one_line_exit_2(tmp_path):
     case = tmp_path / "bad.toml"
     case.write_text(

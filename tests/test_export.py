@@ -48,7 +48,7 @@ def _case(**study) -> dict:
 @pytest.fixture(scope="module")
 def analysis(tmp_path_factory) -> xr.Dataset:
     path = tmp_path_factory.mktemp("analysis") / "a.nc"
-    save(simulate(case_from_dict(_case())), path)
+    save(simulate(case_from_dict(_case()), baseline=True), path)
     return open_result(path)
 
 
@@ -95,8 +95,15 @@ def test_analysis_peaks_contacts_impacts_energy_round_trip(analysis, tmp_path):
     for v, dims in [
         ("peak_displacement", ["building", "floor"]),
         ("peak_absolute_acceleration", ["building", "floor"]),
+        ("no_contact_peak_absolute_acceleration", ["building", "floor"]),
+        ("floor_acceleration_amplification", ["building", "floor"]),
     ]:
         _close(peaks[f"{v} [{ds[v].attrs['units']}]"], _at(ds, v, peaks, dims))
+    for v in ("peak_story_shear", "impact_story_shear", "story_drift_amplification"):
+        at_story = ds[v].sel(
+            building=xr.DataArray(peaks["building"]), story=xr.DataArray(peaks["floor"])
+        )
+        _close(peaks[f"{v} [{ds[v].attrs['units']}]"], at_story.values)
     # story i is the story below floor i
     story = ds["peak_drift_ratio"].sel(
         building=xr.DataArray(peaks["building"]), story=xr.DataArray(peaks["floor"])

@@ -95,7 +95,7 @@ def test_linear_impact_of_undamped_sdof_on_wall_duration_closed_form():
     delta = gap - k * gap / (kb + k)
     tc = (math.pi - 2 * math.atan(w * delta / first["v0"])) / w
     assert first["end"] - first["start"] == pytest.approx(tc, rel=1e-3)
-    assert first["restitution"] == pytest.approx(1.0, abs=2e-3)
+    assert first["rebound_ratio"] == pytest.approx(1.0, abs=2e-3)
 
 
 def test_onset_time_located_inside_the_step():
@@ -131,7 +131,7 @@ def test_single_impact_matches_independent_free_impact(law):
     assert first["end"] - first["start"] == pytest.approx(ref.overlap_duration, rel=5e-3)
     assert first["max_penetration"] == pytest.approx(ref.max_penetration, rel=5e-3)
     assert first["peak_force"] == pytest.approx(ref.peak_force, rel=5e-3)
-    assert first["restitution"] == pytest.approx(ref.e_effective, abs=5e-3)
+    assert first["rebound_ratio"] == pytest.approx(ref.e_effective, abs=5e-3)
 
 
 def test_hht_with_alpha_zero_is_newmark():

@@ -24,7 +24,7 @@ from pounding.simulate import simulate
 from pounding.studies import run_study
 
 HOSTILE = "<script>alert(1)</script>"
-ANALYSIS_SECTIONS = ("Model", "Ground motion", "Results")
+ANALYSIS_SECTIONS = ("Executive summary", "Model", "Ground motion", "Results")
 STUDY_SECTIONS = (
     "Study",
     "Model",
@@ -59,7 +59,7 @@ def analysis_report(tmp_path_factory):
     del data["study"]
     data["building"][0]["name"] = HOSTILE
     data["contact"][0]["left"] = HOSTILE
-    ds = simulate(case_from_dict(data))
+    ds = simulate(case_from_dict(data), baseline=True)
     out = tmp_path_factory.mktemp("analysis")
     save(ds, out / "result.nc")
     return ds, write_report(ds, out / "report")
@@ -136,12 +136,36 @@ def test_analysis_report_sections_and_restitution_table(analysis_report):
     ds, _ = analysis_report
     rep = build_report(ds)
     assert [s.title for s in rep.sections] == list(ANALYSIS_SECTIONS)
-    model = rep.sections[0]
+    model = rep.sections[1]
     law_table = next(b for b in model.blocks if hasattr(b, "header") and "effective e" in b.header)
     row = law_table.rows[0]
     assert row[0].startswith("hertz") and row[3] == "1 (elastic)"
     # Hertz is elastic: its effective restitution is 1
     assert float(row[4]) == pytest.approx(1.0, abs=1e-3)
+
+
+def test_analysis_report_leads_with_peaks_with_and_without_contact(analysis_report):
+    # The first section: per building the peak drift ratio, floor acceleration, displacement and
+    # base shear with contact, without (the run's no-contact baseline) and their ratio.
+    ds, _ = analysis_report
+    table = build_report(ds).sections[0].blocks[0]
+    assert table.header == ["building", "quantity", "with contact", "without", "ratio"]
+    name = str(ds["building"].values[1])
+    row = next(r for r in table.rows if r[0] == name and r[1] == "peak drift ratio")
+    assert float(row[2]) == pytest.approx(
+        float(ds["peak_drift_ratio"].sel(building=name).max()), rel=1e-2
+    )
+    assert float(row[3]) == pytest.approx(
+        float(ds["no_contact_peak_drift_ratio"].sel(building=name).max()), rel=1e-2
+    )
+    assert float(row[4]) == pytest.approx(
+        float(ds["drift_amplification"].sel(building=name)), rel=1e-2
+    )
+    shear = next(r for r in table.rows if r[0] == name and r[1] == "peak base shear [kN]")
+    assert float(shear[2]) == pytest.approx(
+        float(ds["peak_base_shear"].sel(building=name)) / 1e3, abs=0.5
+    )
+    assert "largest impact force" in table.caption
 
 
 def test_separation_report_tables_are_the_datasets_figures(separation_report):
@@ -337,7 +361,8 @@ def test_report_of_a_building_named_like_mathtext_draws_the_name_as_written(math
 
     ds, paths = mathtext_report
     assert [p.name for p in paths] == ["report.html", "report.pdf"]
-    modes = next(b for b in build_report(ds).sections[0].blocks if hasattr(b, "figure"))
+    model = next(s for s in build_report(ds).sections if s.title == "Model")
+    modes = next(b for b in model.blocks if hasattr(b, "figure"))
     svg = str(_svg(modes.figure))
     for name in MATHTEXT_NAMES:
         assert f"building {name}" in svg

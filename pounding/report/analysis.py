@@ -100,7 +100,7 @@ def _impacts_table(ds: xr.Dataset) -> Table:
             _g(r.peak_force / 1e6, 4),
             _g(r.max_penetration * 1e3, 4),
             _g(r.impulse / 1e3, 4),
-            _g(r.restitution, 3),
+            _g(r.rebound_ratio, 3),
         ]
         for r in imp.head(_MAX_ROWS).itertuples()
     ]
@@ -137,6 +137,7 @@ def _results_section(ds: xr.Dataset, contacts: Table | None) -> Section:
                 "peak displacement [m]",
                 "peak drift ratio [-]",
                 "peak absolute acceleration [m/s²]",
+                "peak base shear [kN]",
             ],
             [
                 [
@@ -145,6 +146,7 @@ def _results_section(ds: xr.Dataset, contacts: Table | None) -> Section:
                     _g(b["peak_displacement"]),
                     _g(b["peak_drift_ratio"]),
                     _g(b["peak_absolute_acceleration"]),
+                    _g(b["peak_base_shear"] / 1e3),
                 ]
                 for name, b in s["buildings"].items()
             ],
@@ -183,6 +185,68 @@ def _results_section(ds: xr.Dataset, contacts: Table | None) -> Section:
         )
     )
     return res
+
+
+def _fmt(value: float, digits: int) -> str:
+    """``digits`` significant digits, or whole units when ``digits`` is 0 (forces in kN)."""
+    return f"{value:.0f}" if digits == 0 and math.isfinite(value) else _g(value, digits or 4)
+
+
+def _executive_section(ds: xr.Dataset) -> Section:
+    """The numbers an engineer decides on first: per building the peak drift ratio, absolute floor
+    acceleration and base shear, with contact and (when the run has its no-contact baseline)
+    without, their ratio and the story shear the impacts add; the largest impact force."""
+    sec = Section("Executive summary")
+    s = ds.pounding.summary()
+    baseline = all("no_contact" in b for b in s["buildings"].values())
+    if baseline:
+        header = ["building", "quantity", "with contact", "without", "ratio"]
+        rows = []
+        for name, b in s["buildings"].items():
+            nc = b["no_contact"]
+            for label, key, scale, digits in (
+                ("peak drift ratio", "peak_drift_ratio", 1.0, 3),
+                ("peak abs. acceleration [m/s²]", "peak_absolute_acceleration", 1.0, 3),
+                ("peak displacement [m]", "peak_displacement", 1.0, 3),
+                ("peak base shear [kN]", "peak_base_shear", 1e-3, 0),
+            ):
+                w, wo = b[key] * scale, nc[key] * scale
+                rows.append(
+                    [name, label, _fmt(w, digits), _fmt(wo, digits), _g(w / wo if wo else None, 3)]
+                )
+            added = _fmt(b["max_impact_story_shear"] / 1e3, 0)
+            rows.append([name, "story shear added [kN]", added, "", ""])
+        note = (
+            "With contact: this analysis; without: the same analysis with no contacts. Story shear "
+            "added: the largest over the stories of the peak story shear with contact minus without."
+        )
+    else:
+        header = [
+            "building",
+            "peak drift ratio",
+            "peak abs. acceleration [m/s²]",
+            "peak base shear [kN]",
+        ]
+        rows = [
+            [
+                name,
+                _g(b["peak_drift_ratio"], 3),
+                _g(b["peak_absolute_acceleration"], 3),
+                _g(b["peak_base_shear"] / 1e3, 4),
+            ]
+            for name, b in s["buildings"].items()
+        ]
+        note = "No no-contact baseline in this result (run without --no-baseline to compare)."
+    contacts = s["contacts"]
+    if contacts:
+        worst = max(contacts, key=lambda c: c["peak_force"])
+        n_imp = sum(c["impacts"] for c in contacts)
+        note += (
+            f" {n_imp} impacts; largest impact force {_g(worst['peak_force'] / 1e6, 4)} MN at "
+            f"{worst['left']}–{worst['right']} ({worst['law']}, gap {_g(worst['gap'] * 1e3, 4)} mm)."
+        )
+    sec.blocks.append(Table(header, rows, note))
+    return sec
 
 
 def _isolation_section(ds: xr.Dataset) -> Section | None:
@@ -224,7 +288,12 @@ def analysis_report(ds: xr.Dataset, store: Path | None = None) -> Report:
         _analysis_law_rows(ds) if contacts else [],
         [Table(contacts.header[:5], [r[:5] for r in contacts.rows])] if contacts else [],
     )
-    sections = [model, _ground_motion_section(ds, study=False), _results_section(ds, contacts)]
+    sections = [
+        _executive_section(ds),
+        model,
+        _ground_motion_section(ds, study=False),
+        _results_section(ds, contacts),
+    ]
     iso = _isolation_section(ds)
     if iso is not None:
         sections.append(iso)
