@@ -121,6 +121,64 @@ def _print_with_without(buildings: dict[str, Any]) -> None:
         typer.echo(f"  {name:<12s} {'story shear added [kN]':<26s} {added:+10.4g}  (largest story)")
 
 
+def _print_study_statistics(ds: Any) -> None:
+    """Per combination of the axes other than ``record`` (a scale axis stays apart) and building:
+    median / 84th percentile / max over the records of the drift and floor-acceleration
+    amplification, the share of records that pound and the impact force."""
+    import itertools
+
+    st = ds.pounding.statistics()
+    axes = list(st["pounding_fraction"].dims) if "pounding_fraction" in st else []
+    one = ds.sizes["record"] == 1
+    if one:
+        typer.echo("  amplification = peak with contact / without")
+    else:
+        typer.echo(
+            f"  over {ds.sizes['record']} records: median / 84th percentile / max; "
+            "amplification = peak with contact / without"
+        )
+
+    def title(a: str) -> str:
+        units = st[a].attrs.get("units") or ds[a].attrs.get("units")
+        return f"{a} [{units}]" if units and units != "1" else a
+
+    widths = [max(len(title(a)), *(len(str(v)) for v in st[a].values)) + 2 for a in axes]
+    cell = 14 if one else 22
+    force_head = "impact force [MN]" if one else "impact force [MN] (median / 84th)"
+    typer.echo(
+        "  "
+        + "".join(f"{title(a):<{w}s}" for a, w in zip(axes, widths, strict=True))
+        + f"{'building':<10s}{'drift ampl.':<{cell}s}{'floor acc. ampl.':<{cell + 4}s}"
+        + f"{'pounds':>7s}  {force_head}"
+    )
+
+    def values(da: Any, n: int) -> str:
+        return " / ".join(f"{float(v):.2f}" for v in da.values[:n])
+
+    n = 1 if one else 3
+    for combo in itertools.product(*(st[a].values for a in axes)):
+        sel = dict(zip(axes, combo, strict=True))
+        if sel.get("law") == "none":
+            continue  # the baseline itself: every ratio is 1
+        label = "".join(f"{str(v):<{w}s}" for v, w in zip(combo, widths, strict=True))
+        for k, b in enumerate(st["building"].values):
+            at = {**sel, "building": b}
+            extra = ""
+            if k == 0:
+                frac = float(st["pounding_fraction"].sel(sel))
+                force = st["peak_impact_force"].sel(sel).values[: 1 if one else 2] / 1e6
+                if frac == frac:  # NaN when no run of the combination finished
+                    extra = f"{100 * frac:6.0f} %  " + " / ".join(f"{f:.3g}" for f in force)
+                else:
+                    extra = f"{'–':>6s}    –"
+            line = (
+                f"  {label if k == 0 else ' ' * len(label)}{str(b):<10s}"
+                f"{values(st['drift_amplification'].sel(at), n):<{cell}s}"
+                f"{values(st['acceleration_amplification'].sel(at), n):<{cell + 4}s}{extra}"
+            )
+            typer.echo(line.rstrip())
+
+
 def _print_summary(result: Any, path: str | None) -> None:
     """Print the summary of a :class:`pounding._schema.ResultVariables` (no xarray needed)."""
     from pounding._schema import summary
@@ -544,15 +602,8 @@ def study(
         signal.signal(signal.SIGTERM, previous)
     save(ds, output)
     failed = int((ds["run_status"] == "failed").sum())
-    if "law" in ds.dims:
-        typer.echo("  median displacement amplification (with contact / without), by law:")
-        med = ds["displacement_amplification"].median(
-            [d for d in ds["displacement_amplification"].dims if d not in ("law", "building")]
-        )
-        typer.echo("  law                " + "".join(f"{str(b):>12s}" for b in ds.building.values))
-        for law in ds.law.values:
-            row = "".join(f"{v:12.3f}" for v in med.sel(law=law).values)
-            typer.echo(f"  {str(law):<18s} {row}")
+    if "drift_amplification" in ds:
+        _print_study_statistics(ds if "record" in ds.dims else ds.expand_dims("record"))
     if failed:
         typer.echo(f"  {failed} combination(s) failed; their errors are in run_error, e.g.:")
         first = ds["run_error"].values[ds["run_status"].values == "failed"][0]

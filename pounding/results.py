@@ -12,6 +12,7 @@ drifts relative to the slab). The energy ledger has the term ``friction_dissipat
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -168,6 +169,61 @@ class PoundingAccessor:
         """Headline numbers: periods, peaks per building, impacts per contact, energy balance error."""
         ds = self._ds.transpose(*_DIM_ORDER, missing_dims="ignore")
         return _summary({n: (v.dims, v.values) for n, v in ds.variables.items()}, ds.attrs)
+
+    def statistics(self, over: str = "record") -> xr.Dataset:
+        """Record-to-record statistics of a study: for each combination of the other axes (law,
+        gap, and ``scale`` kept apart: a scale axis is intensity, never pooled with record-to-record
+        scatter), over the ``over`` axis, the median, the 84th percentile (empirical, linear
+        interpolation) and the maximum of the drift, floor-acceleration and displacement
+        amplifications (per building) and of the run's peak impact force [N] (the largest over
+        the contacts); ``pounding_fraction``, the share of the runs with at least one impact; and
+        ``n_runs``, the runs that finished (failed runs are left out of every statistic)."""
+        ds = self._ds
+        if result_kind(ds) != "study" or over not in ds.dims:
+            raise PoundingInputError(
+                f"statistics() needs a study Dataset with a {over!r} axis (pounding study)"
+            )
+        stat = xr.DataArray(["median", "p84", "max"], dims="statistic", name="statistic")
+        ok = ds["run_status"] == "ok" if "run_status" in ds else xr.ones_like(ds[over], bool)
+
+        def three(da: xr.DataArray) -> xr.DataArray:
+            da = da.where(ok)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN: every run failed
+                return xr.concat(
+                    [da.median(over), da.quantile(0.84, over).drop_vars("quantile"), da.max(over)],
+                    dim=stat,
+                )
+
+        out = xr.Dataset(coords={"statistic": stat})
+        out["statistic"].attrs = {
+            "long_name": f"statistic over {over}: median, 84th percentile, max"
+        }
+        for name in (
+            "drift_amplification",
+            "acceleration_amplification",
+            "displacement_amplification",
+        ):
+            if name in ds:
+                out[name] = three(ds[name])
+                out[name].attrs = {"units": "1", "long_name": ds[name].attrs.get("long_name", name)}
+        if "peak_contact_force" in ds and "contact" in ds.dims:
+            force = ds["peak_contact_force"].max("contact")
+            out["peak_impact_force"] = three(force)
+            out["peak_impact_force"].attrs = {
+                "units": "N",
+                "long_name": "largest peak contact force of a run",
+            }
+            hit = (ds["impact_count"].sum("contact") > 0).where(ok)
+            out["pounding_fraction"] = hit.mean(over)
+            out["pounding_fraction"].attrs = {
+                "units": "1",
+                "long_name": f"fraction of the runs over {over} with at least one impact",
+            }
+        out["n_runs"] = ok.sum(over).astype(np.int64)
+        out["n_runs"].attrs = {"units": "1", "long_name": f"runs over {over} that finished"}
+        out.attrs = {"title": ds.attrs.get("title", ""), "pooled_over": over}
+        return out
 
 
 # the schema's dimension order (pounding._schema.summary indexes by position)

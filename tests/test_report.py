@@ -26,6 +26,7 @@ from pounding.studies import run_study
 HOSTILE = "<script>alert(1)</script>"
 ANALYSIS_SECTIONS = ("Executive summary", "Model", "Ground motion", "Results")
 STUDY_SECTIONS = (
+    "Executive summary",
     "Study",
     "Model",
     "Ground motions",
@@ -166,6 +167,23 @@ def test_analysis_report_leads_with_peaks_with_and_without_contact(analysis_repo
         float(ds["peak_base_shear"].sel(building=name)) / 1e3, abs=0.5
     )
     assert "largest impact force" in table.caption
+
+
+def test_study_report_leads_with_the_record_statistics(study_report):
+    # The first table of a study report: per law, gap and building the median / 84th / max over
+    # the records of the drift and floor-acceleration amplification (ds.pounding.statistics()).
+    ds, _ = study_report
+    sec = build_report(ds).sections[0]
+    assert sec.title == "Executive summary"
+    table = next(b for b in sec.blocks if hasattr(b, "header"))
+    st = ds.pounding.statistics()
+    row = next(r for r in table.rows if r[0] == "hertz")
+    gap, building = float(row[1]), row[2]
+    at = {"law": "hertz", "gap": gap, "building": building}
+    expected = [float(v) for v in st["drift_amplification"].sel(at).values]
+    assert [float(v) for v in row[3].split(" / ")] == pytest.approx(expected, abs=0.006)
+    assert not any(r[0] == "none" for r in table.rows)
+    assert "Largest median drift amplification" in sec.blocks[0]
 
 
 def test_separation_report_tables_are_the_datasets_figures(separation_report):
@@ -318,7 +336,10 @@ def test_report_of_a_study_whose_contact_runs_all_failed(tmp_path):
     rep = build_report(ds)
     html = _html(write_report(ds, tmp_path / "report", formats=["html"]))
     assert "ConvergenceError" in html
-    assert [s.title for s in rep.sections][:2] == ["Study", "Model"]
+    assert [s.title for s in rep.sections][:3] == ["Executive summary", "Study", "Model"]
+    # no finished contact run: no statistic, shown as a dash, never "nan"
+    row = rep.sections[0].blocks[-1].rows[0]
+    assert row[3] == "– / – / –" and "nan" not in " ".join(row)
 
 
 def test_isolated_analysis_report_has_the_bearing_section(tmp_path):
@@ -395,7 +416,8 @@ def test_study_dispersion_is_the_maximum_likelihood_lognormal_fit(study_report):
 
     ds, _ = study_report
     rep = build_report(ds)
-    table = rep.sections[3].blocks[-1]
+    comparison = next(s for s in rep.sections if s.title == "Comparison of contact laws")
+    table = comparison.blocks[-1]
     assert "lognormal, maximum likelihood" in table.caption
     group = table.header[:2]
     assert group == ["law", "gap"]

@@ -303,3 +303,47 @@ def test_baseline_peaks_are_those_of_the_same_analysis_without_contacts():
         assert var.attrs.get("units") and var.attrs.get("long_name"), name
     # a system without contacts has nothing to compare with
     assert "drift_amplification" not in simulate(assemble([a, b]), gm, baseline=True)
+
+
+def test_study_statistics_pool_records_but_never_scales(tmp_path):
+    # Three records at two scales: the statistics are over the records only (a scale axis is
+    # intensity), each equal to numpy's median, 84th percentile and max of the study's own values.
+    from test_studies import PULSE, RICKER, _study
+
+    from pounding.errors import PoundingInputError
+    from pounding.studies import run_study
+
+    third = {"type": "sine_pulse", "amplitude": 0.4, "units": "g", "period": 0.7, "duration": 2.5}
+    study = _study(
+        law=["none", "hertz"], gap=[0.005], record=[PULSE, RICKER, third], scale=[0.3, 1.0]
+    )
+    ds = run_study(study, tmp_path / "runs", jobs=1)
+    st = ds.pounding.statistics()
+    assert "record" not in st.dims and st.sizes["scale"] == 2
+    assert list(st["statistic"].values) == ["median", "p84", "max"]
+    for scale in (0.3, 1.0):
+        sel = {"law": "hertz", "gap": 0.005, "scale": scale}
+        drift = ds["drift_amplification"].sel(sel).transpose("record", "building").values
+        got = st["drift_amplification"].sel(sel).transpose("statistic", "building").values
+        np.testing.assert_allclose(got[0], np.median(drift, axis=0))
+        np.testing.assert_allclose(got[1], np.percentile(drift, 84, axis=0))
+        np.testing.assert_allclose(got[2], drift.max(axis=0))
+        force = ds["peak_contact_force"].sel(sel).max("contact").values
+        np.testing.assert_allclose(
+            st["peak_impact_force"].sel(sel).values,
+            [np.median(force), np.percentile(force, 84), force.max()],
+        )
+        hits = (ds["impact_count"].sel(sel).sum("contact") > 0).values
+        assert float(st["pounding_fraction"].sel(sel)) == pytest.approx(hits.mean())
+    # a weaker shaking pounds in no more records than a stronger one
+    frac = st["pounding_fraction"].sel(law="hertz", gap=0.005)
+    assert float(frac.sel(scale=0.3)) <= float(frac.sel(scale=1.0))
+    assert int(st["n_runs"].sel(law="hertz", gap=0.005, scale=1.0)) == 3
+    for name, var in st.data_vars.items():
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+    single = simulate(
+        assemble([ShearBuilding.uniform("A", 2, period=0.3, mass=1e5)]),
+        sine_pulse(amplitude=2.0, period=0.5, duration=1.0, dt=0.01),
+    )
+    with pytest.raises(PoundingInputError, match="study"):
+        single.pounding.statistics()

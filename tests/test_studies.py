@@ -341,9 +341,16 @@ def test_cli_study_prints_amplification_and_writes_the_dataset(tmp_path):
     out = tmp_path / "s.nc"
     res = runner.invoke(app, ["study", str(case), "-o", str(out), "--jobs", "1"])
     assert res.exit_code == 0, res.output
-    assert "median displacement amplification" in res.output
+    # the statistics table: drift and floor-acceleration amplification of each law and gap
+    assert "drift ampl." in res.output and "floor acc. ampl." in res.output
+    assert "hunt_crossley" in res.output and "none " not in res.output
     assert "already stored" in res.output
     ds = open_result(out)
+    row = next(
+        ln.split() for ln in res.output.splitlines() if ln.split()[:3] == ["hertz", "0.005", "A"]
+    )
+    drift = float(ds["drift_amplification"].sel(law="hertz", gap=0.005, building="A").squeeze())
+    assert float(row[3]) == pytest.approx(drift, abs=0.006)
     assert ds.attrs["pounding_kind"] == "study" and ds.sizes["law"] == 3
     bad = tmp_path / "bad.toml"
     bad.write_text(case.read_text().replace('"hertz"]', '"hertz", "bilinear"]'))

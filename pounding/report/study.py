@@ -4,6 +4,7 @@ maps, median and lognormal dispersion tables) and the time histories the study k
 
 from __future__ import annotations
 
+import itertools
 import json
 from pathlib import Path
 from typing import Any
@@ -269,13 +270,92 @@ def _comparison_section(ds: xr.Dataset) -> Section:
     return comp
 
 
+def _percent(fraction: float) -> str:
+    """A fraction as a whole percentage ("–" where no run finished)."""
+    return f"{100 * fraction:.0f} %" if np.isfinite(fraction) else "–"
+
+
+def _trio(values: np.ndarray) -> str:
+    """median / 84th / max to two decimals ("–" where no run finished)."""
+    return " / ".join(f"{v:.2f}" if np.isfinite(v) else "–" for v in values)
+
+
+def _executive_section(ds: xr.Dataset) -> Section | None:
+    """Record-to-record statistics of the amplifications per combination of the other axes and
+    building (``ds.pounding.statistics()``), led by the largest median drift amplification."""
+    if "record" not in ds.dims or "drift_amplification" not in ds:
+        return None
+    st = ds.pounding.statistics()
+    sec = Section("Executive summary")
+    axes = list(st["pounding_fraction"].dims) if "pounding_fraction" in st else []
+    drift = st["drift_amplification"].sel(statistic="median")
+    if "law" in drift.dims:
+        drift = drift.where(drift["law"] != "none")
+    if int(drift.notnull().sum()):
+        at = {
+            d: drift[d].values[i]
+            for d, i in zip(
+                drift.dims,
+                np.unravel_index(int(np.argmax(drift.fillna(-1).values)), drift.shape),
+                strict=True,
+            )
+        }
+        where = ", ".join(f"{d} = {_value_text(v)}" for d, v in at.items() if d != "building")
+        acc = float(st["acceleration_amplification"].sel(statistic="median", **at))
+        sec.blocks.append(
+            f"Largest median drift amplification over the {ds.sizes['record']} record(s): "
+            f"{float(drift.sel(at)):.2f} for building {at['building']} ({where}); floor "
+            f"acceleration there: median {acc:.2f}."
+        )
+    header = [
+        *(
+            f"{a} [{ds[a].attrs['units']}]" if ds[a].attrs.get("units", "1") != "1" else a
+            for a in axes
+        ),
+        "building",
+        "drift ampl. median / 84th / max",
+        "floor acc. ampl. median / 84th / max",
+        "runs that pound",
+        "impact force [MN] median / 84th",
+    ]
+    rows = []
+    for combo in itertools.product(*(st[a].values for a in axes)):
+        sel = dict(zip(axes, combo, strict=True))
+        if sel.get("law") == "none":
+            continue
+        for b in st["building"].values:
+            at = {**sel, "building": b}
+            force = st["peak_impact_force"].sel(sel).values[:2] / 1e6
+            rows.append(
+                [
+                    *(_value_text(v) for v in combo),
+                    str(b),
+                    _trio(st["drift_amplification"].sel(at).values),
+                    _trio(st["acceleration_amplification"].sel(at).values),
+                    _percent(float(st["pounding_fraction"].sel(sel))),
+                    " / ".join(_g(f, 3) for f in force),
+                ]
+            )
+    cap = (
+        "Amplification = peak with contact / without (the same record and scale, law 'none'); "
+        "statistics over the records (84th: empirical percentile); a scale axis is never pooled."
+    )
+    if len(rows) > 2 * _MAX_ROWS:
+        cap += f" First {2 * _MAX_ROWS} of {len(rows)} rows; all in ds.pounding.statistics()."
+        rows = rows[: 2 * _MAX_ROWS]
+    sec.blocks.append(Table(header, rows, cap))
+    return sec
+
+
 def study_report(ds: xr.Dataset, store: Path | None = None) -> Report:
     """The report of a study (from :func:`pounding.studies.run_study`); ``store`` is its run store
     (default the one recorded in the Dataset) for the kept time histories."""
     if store is None and str(ds.attrs.get("store", "")):
         store = Path(ds.attrs["store"])
     axes = _axes(ds)
+    executive = _executive_section(ds)
     sections = [
+        *([executive] if executive else []),
         _sweep_section(ds, axes),
         _model_section(ds, _study_law_rows(ds)),
         _ground_motion_section(ds, study=True),
