@@ -487,4 +487,22 @@ def summary(variables: Mapping[str, tuple[tuple[str, ...], Any, Any]], attrs: Ma
             }
         )
     out["energy_balance_error"] = float(attrs.get("energy_balance_error", np.nan))
+    out["warnings"] = _warnings(out, attrs)
     return out
+
+
+def _warnings(summary: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str]:
+    """The run's own warnings (attribute ``warnings``) and every building whose peak drift ratio
+    exceeds the run's ``drift_limit``."""
+    raw = attrs.get("warnings", "[]")
+    found = list(json.loads(raw) if isinstance(raw, str) else raw)
+    limit = float(attrs.get("drift_limit", np.nan))
+    for name, b in summary["buildings"].items():
+        drift = b["peak_drift_ratio"]
+        if math.isfinite(limit) and drift > limit:
+            found.append(
+                f"building {name}: peak drift ratio {drift:.3g} exceeds the drift limit {limit:g}: "
+                "beyond it elastic stories are no model of a real building (the limit: "
+                "[output] drift_limit)"
+            )
+    return found

@@ -14,29 +14,177 @@ from pathlib import Path
 from typing import Any
 
 from pounding import records
+from pounding.contact.calibrate import CALIBRATIONS
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import ANALYTIC_MOTIONS, GroundMotion, analytic
-from pounding.simulate import AnalysisOptions
+from pounding.simulate import ANALYSIS_KEYS, OUTPUT_KEYS, AnalysisOptions
 from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
 from pounding.system import Contact, PoundingSystem, assemble
 from pounding.units import acceleration_factor
+from pounding.validation import Key, check_table, reference
+
+#: Most floors a building may have (a model larger than this is a typing error, not a building).
+MAX_FLOORS = 500
 
 _BUILDING_KEYS = (
-    "name",
-    "masses",
-    "stiffnesses",
-    "heights",
-    "damping",
-    "n_floors",
-    "period",
-    "mass",
-    "height",
-    "base",
+    Key("name", "string", "building name (unique; used in contacts and results)", required=True),
+    Key(
+        "masses",
+        "numbers",
+        "floor masses, lowest floor first",
+        unit="kg",
+        low=1.0,
+        high=1e12,
+    ),
+    Key(
+        "stiffnesses",
+        "numbers",
+        "story stiffnesses, lowest story first",
+        unit="N/m",
+        low=0.0,
+        high=1e15,
+        open_low=True,
+    ),
+    Key(
+        "heights",
+        "numbers",
+        "story heights (default 3 m each)",
+        unit="m",
+        low=0.0,
+        high=1000.0,
+        open_low=True,
+    ),
+    Key(
+        "damping",
+        "any",
+        "a table { ratio, modes } (Rayleigh, default 5 % at modes 1, 2) or { ratios } (modal)",
+    ),
+    Key("n_floors", "integer", "floors of a uniform building", low=1, high=MAX_FLOORS),
+    Key(
+        "period",
+        "number",
+        "fundamental period of a uniform building",
+        unit="s",
+        low=1e-3,
+        high=100.0,
+    ),
+    Key(
+        "mass",
+        "number",
+        "floor mass of a uniform building",
+        unit="kg",
+        low=1.0,
+        high=1e12,
+    ),
+    Key(
+        "height",
+        "number",
+        "story height of a uniform building (default 3)",
+        unit="m",
+        low=0.0,
+        high=1000.0,
+        open_low=True,
+    ),
+    Key(
+        "base", "any", "a table: isolation: { type, mass, friction, ... } (README, base isolation)"
+    ),
 )
-_CONTACT_KEYS = tuple(f.name for f in dataclasses.fields(Contact))
-_ANALYTIC_KEYS = ("type", "amplitude", "units", "period", "duration", "dt", "cycles", "t0", "scale")
-_RECORD_KEYS = ("file", "record", "units", "dt", "format", "scale")
-_TOP_KEYS = ("title", "building", "contact", "ground_motion", "analysis", "study", "separation")
+_DAMPING_KEYS = (
+    Key("ratio", "number", "Rayleigh damping ratio at both modes", low=0.0, high=1.0),
+    Key("modes", "integers", "the two modes of the Rayleigh ratio", low=1, high=MAX_FLOORS),
+    Key("ratios", "numbers", "modal damping ratio of each mode", low=0.0, high=1.0),
+)
+_CONTACT_KEYS = (
+    Key("left", "string", "building on the left, or wall", required=True),
+    Key("right", "string", "building on the right, or wall", required=True),
+    Key("gap", "number", "clear distance at rest", unit="m", low=0.0, high=100.0, required=True),
+    Key("law", "string", "contact law (pounding laws lists them; default linear)"),
+    Key(
+        "floors",
+        "any",
+        '"common", "all" (with a wall) or a non-empty list of floors / [left, right] pairs',
+    ),
+    Key("k", "number", "contact stiffness", unit="N/m^n", low=0.0, high=1e15, open_low=True),
+    Key(
+        "e",
+        "number",
+        "coefficient of restitution (laws with damping)",
+        low=0.01,
+        high=1.0,
+    ),
+    Key(
+        "n",
+        "number",
+        "exponent of the penetration (Hertz family, default 1.5)",
+        low=0.0,
+        high=10.0,
+        open_low=True,
+    ),
+    Key(
+        "a",
+        "number",
+        "bilinear yield fraction δ_y/δ_m (default 0.1)",
+        low=0.0,
+        high=1.0,
+        open_low=True,
+    ),
+    Key(
+        "delta_m",
+        "number",
+        "bilinear maximum penetration",
+        unit="m",
+        low=0.0,
+        high=10.0,
+        open_low=True,
+    ),
+    Key(
+        "calibration",
+        "string",
+        "damping calibrated to e nominally or exactly",
+        choices=CALIBRATIONS,
+    ),
+)
+_ANALYTIC_KEYS = (
+    Key("type", "string", "analytic motion", choices=tuple(ANALYTIC_MOTIONS), required=True),
+    Key(
+        "amplitude", "number", "peak ground acceleration, in the table's units", low=-1e4, high=1e4
+    ),
+    Key("units", "string", "unit of the amplitude (default g)"),
+    Key("period", "number", "period of the pulse or harmonic", unit="s", low=1e-3, high=100.0),
+    Key("duration", "number", "length of the motion", unit="s", low=0.0, high=1e4, open_low=True),
+    Key("dt", "number", "sampling step", unit="s", low=1e-6, high=1.0),
+    Key("cycles", "number", "number of cycles (harmonic)", low=0.0, high=1e4, open_low=True),
+    Key("t0", "number", "start time of the pulse", unit="s", low=0.0, high=1e5),
+    Key("scale", "number", "factor on the acceleration", low=0.0, high=100.0, open_low=True),
+)
+_RECORD_KEYS = (
+    Key("file", "string", "record file (PEER AT2, COSMOS, K-NET, text), relative to the case file"),
+    Key("record", "string", "record reference (pounding records list)"),
+    Key("units", "string", "unit of a text file's values (g, m/s2, cm/s2, ...)"),
+    Key("dt", "number", "sampling step of a one-column text file", unit="s", low=1e-6, high=1.0),
+    Key("format", "string", "file format, when it cannot be recognised"),
+    Key("scale", "number", "factor on the acceleration", low=0.0, high=100.0, open_low=True),
+)
+_TOP_KEYS = (
+    "title",
+    "building",
+    "contact",
+    "ground_motion",
+    "analysis",
+    "output",
+    "study",
+    "separation",
+)
+#: Every table of a case file with its keys (the reference in docs/case_file.md is generated from it).
+CASE_SCHEMA = {
+    "[[building]]": _BUILDING_KEYS,
+    "[[building]] damping": _DAMPING_KEYS,
+    "[[contact]]": _CONTACT_KEYS,
+    "[ground_motion] (analytic)": _ANALYTIC_KEYS,
+    "[ground_motion] (record)": _RECORD_KEYS,
+    "[analysis]": ANALYSIS_KEYS,
+    "[output]": OUTPUT_KEYS,
+}
 
 
 class CaseError(PoundingInputError):
@@ -56,6 +204,7 @@ class Case:
     analysis: AnalysisOptions
     data: dict[str, Any]
     path: Path | None = None
+    output: Mapping[str, Any] = dataclasses.field(default_factory=dict)
 
     @property
     def buildings(self) -> tuple[ShearBuilding, ...]:
@@ -64,6 +213,14 @@ class Case:
     @property
     def contacts(self) -> tuple[Contact, ...]:
         return self.system.contacts
+
+
+def _checked(table: Any, keys: tuple[Key, ...], where: str) -> dict[str, Any]:
+    """:func:`pounding.validation.check_table` raising :class:`CaseError` (its message as is)."""
+    try:
+        return check_table(table, keys, where)
+    except PoundingInputError as exc:
+        raise CaseError(str(exc)) from None
 
 
 def _check_keys(table: Mapping[str, Any], allowed: tuple[str, ...], where: str) -> None:
@@ -79,16 +236,14 @@ def _damping(spec: Any, where: str) -> RayleighDamping | ModalDamping:
         return RayleighDamping()
     if not isinstance(spec, Mapping):
         raise CaseError(f"{where}.damping must be a table, e.g. {{ ratio = 0.05, modes = [1, 2] }}")
-    _check_keys(spec, ("ratio", "modes", "ratios"), f"{where}.damping")
+    spec = _checked(spec, _DAMPING_KEYS, f"{where}.damping")
     if "ratios" in spec:
         if "ratio" in spec or "modes" in spec:
             raise CaseError(
                 f"{where}.damping: give either ratios (modal) or ratio/modes (Rayleigh)"
             )
-        return ModalDamping(ratios=tuple(float(r) for r in spec["ratios"]))
-    return RayleighDamping(
-        ratio=float(spec.get("ratio", 0.05)), modes=tuple(int(m) for m in spec.get("modes", (1, 2)))
-    )
+        return ModalDamping(ratios=tuple(spec["ratios"]))
+    return RayleighDamping(ratio=spec.get("ratio", 0.05), modes=tuple(spec.get("modes", (1, 2))))
 
 
 def _base(spec: Any, where: str) -> IsolationBase | None:
@@ -110,25 +265,23 @@ def _base(spec: Any, where: str) -> IsolationBase | None:
 
 
 def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
-    _check_keys(spec, _BUILDING_KEYS, where)
-    if "name" not in spec:
-        raise CaseError(f"{where}.name is required")
+    spec = _checked(spec, _BUILDING_KEYS, where)
     damping = _damping(spec.get("damping"), where)
     base = _base(spec.get("base"), where)
     uniform = [k for k in ("n_floors", "period", "mass") if k in spec]
     if uniform:
         missing = [k for k in ("n_floors", "period", "mass") if k not in spec]
-        if missing or "masses" in spec or "stiffnesses" in spec:
+        if missing or any(k in spec for k in ("masses", "stiffnesses", "heights")):
             raise CaseError(
-                f"{where}: a uniform building takes n_floors, period [s] and mass [kg] together "
-                "(instead of masses and stiffnesses)"
+                f"{where}: a uniform building takes n_floors, period [s] and mass [kg] together, "
+                "and height [m] (instead of masses, stiffnesses and heights)"
             )
         return ShearBuilding.uniform(
-            str(spec["name"]),
-            int(spec["n_floors"]),
-            period=float(spec["period"]),
-            mass=float(spec["mass"]),
-            height=float(spec.get("height", 3.0)),
+            spec["name"],
+            spec["n_floors"],
+            period=spec["period"],
+            mass=spec["mass"],
+            height=spec.get("height", 3.0),
             damping=damping,
             base=base,
         )
@@ -137,6 +290,10 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
             raise CaseError(
                 f"{where}.{key} is required (or n_floors, period and mass for a uniform building)"
             )
+    if len(spec["masses"]) > MAX_FLOORS:
+        raise CaseError(
+            f"{where}.masses: {len(spec['masses'])} floors; allowed: at most {MAX_FLOORS}"
+        )
     return ShearBuilding(
         name=str(spec["name"]),
         masses=spec["masses"],
@@ -148,31 +305,51 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
 
 
 def _contact(spec: Mapping[str, Any], where: str) -> Contact:
-    _check_keys(spec, _CONTACT_KEYS, where)
-    for key in ("left", "right", "gap"):
-        if key not in spec:
-            raise CaseError(f"{where}.{key} is required")
-    return Contact(**dict(spec))
+    spec = _checked(spec, _CONTACT_KEYS, where)
+    floors = spec.get("floors", "common")
+    if not _floors_ok(floors):
+        raise CaseError(
+            f'{where}.floors = {floors!r}; allowed: "common", "all" (with a wall), a non-empty '
+            "list of floor numbers (with a wall) or of [left_floor, right_floor] pairs"
+        )
+    return Contact(**spec)
+
+
+def _floors_ok(floors: Any) -> bool:
+    """``floors`` is "common", "all" or a non-empty list of floor integers or integer pairs."""
+    if isinstance(floors, str):
+        return floors in ("common", "all")
+    if not isinstance(floors, list) or not floors:
+        return False
+
+    def integer(x: Any) -> bool:
+        return isinstance(x, int) and not isinstance(x, bool) and 0 <= x <= MAX_FLOORS
+
+    return all(
+        integer(f) or (isinstance(f, list) and len(f) == 2 and all(integer(x) for x in f))
+        for f in floors
+    )
 
 
 def _ground_motion(spec: Mapping[str, Any], base_dir: Path | None) -> GroundMotion:
     where = "ground_motion"
+    if not isinstance(spec, Mapping):
+        raise CaseError(f"{where} must be a table ([ground_motion])")
     if "type" in spec:
-        _check_keys(spec, _ANALYTIC_KEYS, where)
-        kind = spec["type"]
-        if kind not in ANALYTIC_MOTIONS:
+        if spec["type"] not in ANALYTIC_MOTIONS:
             raise CaseError(
-                f"{where}.type = {kind!r}; allowed: {', '.join(ANALYTIC_MOTIONS)} "
+                f"{where}.type = {spec['type']!r}; allowed: {', '.join(ANALYTIC_MOTIONS)} "
                 "(or give file = ... / record = ... instead of type)"
             )
+        spec = _checked(spec, _ANALYTIC_KEYS, where)
         params = {k: v for k, v in spec.items() if k not in ("type", "units", "scale")}
         if "amplitude" in params:
             params["amplitude"] = float(params["amplitude"]) * acceleration_factor(
                 spec.get("units", "g")
             )
-        gm = analytic(kind, **params)
+        gm = analytic(spec["type"], **params)
     elif "file" in spec or "record" in spec:
-        _check_keys(spec, _RECORD_KEYS, where)
+        spec = _checked(spec, _RECORD_KEYS, where)
         if "file" in spec and "record" in spec:
             raise CaseError(f"{where}: give file or record, not both")
         if "file" in spec:
@@ -206,8 +383,18 @@ def case_from_dict(
     try:
         _check_keys(data, _TOP_KEYS, "top level")
         blds = data.get("building")
-        if not blds or not isinstance(blds, list):
-            raise CaseError("at least one [[building]] table is required")
+        if not blds or not isinstance(blds, list) or not all(isinstance(b, Mapping) for b in blds):
+            raise CaseError(
+                "at least one [[building]] table is required (building = an array of tables)"
+            )
+        cons = data.get("contact", [])
+        if not isinstance(cons, list) or not all(isinstance(c, Mapping) for c in cons):
+            raise CaseError(
+                f"contact = {cons!r}; allowed: [[contact]] tables (an array of tables), or none"
+            )
+        if "title" in data and not isinstance(data["title"], str):
+            raise CaseError(f"title = {data['title']!r}; allowed: a text")
+        output = _checked(data.get("output", {}), OUTPUT_KEYS, "output")
         buildings = []
         for i, spec in enumerate(blds):
             try:
@@ -217,7 +404,7 @@ def case_from_dict(
             except (ValueError, TypeError) as exc:
                 raise CaseError(f"building[{i}]: {exc}") from None
         contacts = []
-        for i, spec in enumerate(data.get("contact", [])):
+        for i, spec in enumerate(cons):
             try:
                 contacts.append(_contact(spec, f"contact[{i}]"))
             except CaseError:
@@ -237,7 +424,7 @@ def case_from_dict(
         except (ValueError, TypeError) as exc:
             raise CaseError(f"ground_motion: {exc}") from None
         try:
-            analysis = AnalysisOptions.from_mapping(dict(data.get("analysis", {})))
+            analysis = AnalysisOptions.from_mapping(data.get("analysis", {}))
         except (ValueError, TypeError) as exc:
             raise CaseError(
                 str(exc) if str(exc).startswith("analysis") else f"analysis: {exc}"
@@ -251,7 +438,22 @@ def case_from_dict(
         analysis=analysis,
         data=data,
         path=None,
+        output=output,
     )
+
+
+def case_file_reference() -> str:
+    """The case-file reference (docs/case_file.md): every table's keys from :data:`CASE_SCHEMA`."""
+    head = (
+        "# Case-file reference\n\n"
+        "Generated from `pounding.case.CASE_SCHEMA` (`pounding.case.case_file_reference()`): every key "
+        "a case file takes, its type, range and unit, checked before anything is built. Units are SI "
+        "unless a key says otherwise. A wrong type or a value out of range is one error line naming "
+        "the key, the value and what is allowed. Tables: `title` (text), `[[building]]` (one or "
+        "more), `[[contact]]` (none or more), `[ground_motion]` (analytic or a record), "
+        "`[analysis]`, `[output]`, and `[study]` / `[separation]` (README).\n\n"
+    )
+    return head + reference(CASE_SCHEMA)
 
 
 def read_case_file(path: str | Path) -> dict[str, Any]:

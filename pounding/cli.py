@@ -181,16 +181,22 @@ def _print_study_statistics(ds: Any) -> None:
 
 def _print_summary(result: Any, path: str | None) -> None:
     """Print the summary of a :class:`pounding._schema.ResultVariables` (no xarray needed)."""
+    import math
+
+    import numpy as np
+
     from pounding._schema import summary
+    from pounding.units import G
 
     variables, attrs = result.variables, result.attrs
     s = summary(variables, attrs)
     title = attrs.get("title") or "analysis"
     typer.echo(f"{title}")
+    pga = float(np.max(np.abs(variables["ground_acceleration"][1]))) / G
     typer.echo(
-        f"  record {attrs.get('record')}, method {attrs.get('method')}, "
-        f"dt {attrs.get('dt'):.3g} s, output dt {attrs.get('output_dt'):.3g} s, "
-        f"duration {attrs.get('duration'):.4g} s"
+        f"  record {attrs.get('record')} (PGA {pga:.3g} g as analysed, any scale included), "
+        f"method {attrs.get('method')}, dt {attrs.get('dt'):.3g} s, output dt "
+        f"{attrs.get('output_dt'):.3g} s, duration {attrs.get('duration'):.4g} s"
     )
     if any("no_contact" in b for b in s["buildings"].values()):
         _print_with_without(s["buildings"])
@@ -213,10 +219,17 @@ def _print_summary(result: Any, path: str | None) -> None:
                 f"  {c['contact']:<7d}  {c['left']:<8s} {c['right']:<8s} {c['law']:<20s} "
                 f"{c['gap']:7.4g}  {c['impacts']:7d}  {c['peak_force']:14.4g}"
             )
+    radii = dict(zip(variables["building"][1], variables["base_radius"][1], strict=True))
     for name, b in s["buildings"].items():
         base = b.get("peak_base_displacement")
         if base is not None:  # isolated buildings only
-            typer.echo(f"  {name}: peak base (bearing) displacement {base:.4g} m")
+            radius = float(radii[name])
+            period = (
+                f"isolated period 2π√(R/g) = {2 * math.pi * math.sqrt(radius / G):.3g} s"
+                if math.isfinite(radius)
+                else "flat sliders: no restoring stiffness, no isolated period"
+            )
+            typer.echo(f"  {name}: peak base (bearing) displacement {base:.4g} m; {period}")
     terms = list(variables["term"][1])
     if "friction_dissipated" in terms:
         fr = float(variables["energy"][1][-1, terms.index("friction_dissipated")])
@@ -225,6 +238,8 @@ def _print_summary(result: Any, path: str | None) -> None:
     typer.echo(
         f"  energy balance error {100 * s['energy_balance_error']:.3g} % of the input energy"
     )
+    for warning in s["warnings"]:
+        typer.echo(f"  warning: {warning}")
     if path:
         typer.echo(f"  written {path}")
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import datetime
 import math
+import os
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -44,6 +45,7 @@ from pounding.integrators.newmark import (
     integrate_newmark,
 )
 from pounding.system import PoundingSystem, assemble
+from pounding.validation import Key, check_table
 
 if TYPE_CHECKING:  # xarray (and pandas) cost ~0.3 s to import: only when a Dataset is built
     import xarray as xr
@@ -58,6 +60,10 @@ METHODS = (*SCHEMES, "ivp")
 #: contact falls as the square of the step, and it always adds energy).
 STEPS_PER_PERIOD = 160
 STEPS_PER_CONTACT = 160
+
+#: Peak drift ratio above which a run is flagged: beyond it elastic stories are no model of a real
+#: building (the ``[output] drift_limit`` of a case file).
+DRIFT_LIMIT = 0.02
 
 #: Output step [s] when none is given (or the integration step when that is longer).
 DEFAULT_OUTPUT_DT = 0.005
@@ -139,14 +145,63 @@ class AnalysisOptions:
 
     @classmethod
     def from_mapping(cls, options: dict[str, Any]) -> AnalysisOptions:
-        """Build from a mapping, naming unknown keys and the allowed ones."""
-        allowed = [f.name for f in dataclasses.fields(cls)]
-        unknown = sorted(set(options) - set(allowed))
-        if unknown:
-            raise PoundingInputError(
-                f"unknown analysis option(s) {', '.join(unknown)}; allowed: {', '.join(allowed)}"
-            )
-        return cls(**options)
+        """Build from a mapping (the ``[analysis]`` table): every key's type and range checked
+        against :data:`ANALYSIS_KEYS`, unknown keys named with the allowed ones."""
+        return cls(**check_table(options, ANALYSIS_KEYS, "analysis"))
+
+
+#: The ``[output]`` keys of a case file.
+OUTPUT_KEYS = (
+    Key(
+        "drift_limit",
+        "number",
+        f"peak drift ratio flagged in the summary and report (default {DRIFT_LIMIT}: the elastic "
+        "stories' validity)",
+        "",
+        0.0,
+        1.0,
+        open_low=True,
+    ),
+)
+
+#: The ``[analysis]`` keys: type, unit, range and meaning (the case-file reference is made from them).
+ANALYSIS_KEYS = (
+    Key("method", "string", "integration method", choices=tuple(METHODS)),
+    Key(
+        "dt", "number", "integration step (default: from the periods and contacts)", "s", 1e-6, 1.0
+    ),
+    Key("output_dt", "number", f"output step (default {DEFAULT_OUTPUT_DT} s)", "s", 1e-6, 10.0),
+    Key(
+        "duration", "number", "analysed time (default: the record's)", "s", 0.0, 1e4, open_low=True
+    ),
+    Key("alpha", "number", "HHT α (method = hht)", "", -1.0 / 3.0, 0.0),
+    Key("ivp_method", "string", "solve_ivp method (method = ivp)", choices=tuple(IVP_METHODS)),
+    Key("rtol", "number", "solve_ivp relative tolerance", "", 0.0, 0.1, open_low=True),
+    Key(
+        "atol",
+        "number",
+        "solve_ivp absolute tolerance (default: scaled)",
+        "",
+        0.0,
+        1.0,
+        open_low=True,
+    ),
+    Key(
+        "tol",
+        "number",
+        "Newton tolerance, relative to max(|u|, 1 mm)",
+        "",
+        0.0,
+        1e-2,
+        open_low=True,
+    ),
+    Key("max_iter", "integer", "Newton iterations per step", "", 1, 1000),
+    Key("max_halvings", "integer", "step halvings when Newton fails", "", 0, 40),
+    Key("locate_onset", "bool", "end a step at a gap's closure or separation"),
+    Key("steps_per_contact", "integer", "steps per contact duration", "", 1, 10000),
+    Key("steps_per_period", "integer", "steps per shortest natural period", "", 1, 10000),
+    Key("adaptive", "bool", "event-aware steps (false: one fixed step)"),
+)
 
 
 def default_time_step(
@@ -180,11 +235,10 @@ def _resolve(case_or_system: Any, ground: GroundMotion | None, options: dict[str
             raise TypeError(
                 "simulate() takes a case (pounding.load_case) or a PoundingSystem and a GroundMotion"
             )
-    analysis = (
-        dataclasses.replace(case_or_system.analysis, **options)
-        if options
-        else case_or_system.analysis
-    )
+    analysis = case_or_system.analysis
+    if options:  # overrides (the command line's --dt ...) are checked like the case file's keys
+        merged = {**dataclasses.asdict(analysis), **options}
+        analysis = AnalysisOptions.from_mapping({k: v for k, v in merged.items() if v is not None})
     return (
         case_or_system.system,
         ground if ground is not None else case_or_system.ground_motion,
@@ -234,6 +288,8 @@ def simulate_variables(
     if baseline and len(system.elements):
         free = assemble(system.buildings, ())
         result = with_baseline(result, _variables(free, ground, opts, title))
+    output = getattr(case_or_system, "output", None) or {}
+    result.attrs["drift_limit"] = float(output.get("drift_limit", DRIFT_LIMIT))
     return result
 
 
@@ -282,13 +338,65 @@ def step_plan(
     return output_dt / every, output_dt, every, n_out
 
 
+#: A given step longer than this fraction of the shortest natural period is refused (fewer than two
+#: steps per period: the mode cannot be represented), one longer than the second fraction is warned
+#: about (the mode is integrated, with period elongation; legitimate for a stiff mode that carries
+#: no response, e.g. the superstructure of an isolated building).
+MAX_DT_PERIOD_FRACTION, WARN_DT_PERIOD_FRACTION = 0.5, 0.1
+#: Bytes held per output row and per dof (u, v, a and their Dataset copies) or gap element.
+_BYTES_PER_DOF_ROW, _BYTES_PER_ELEMENT_ROW = 8 * 3 * 3, 8 * 2 * 3
+
+
+def check_plan(system: PoundingSystem, opts: AnalysisOptions, dt: float, n_out: int) -> list[str]:
+    """Refuse, before integrating, a given step too long for the structure (dt = 100 s gave
+    all-zero peaks) and a run whose results cannot fit in memory, with the estimate. Returns the
+    warnings (a given step longer than a tenth of the shortest natural period)."""
+    warnings = []
+    if opts.dt is not None and opts.method != "ivp":
+        t_min = system.shortest_period()
+        if dt > MAX_DT_PERIOD_FRACTION * t_min:
+            raise PoundingInputError(
+                f"analysis.dt = {opts.dt:g} s is longer than half the shortest natural period "
+                f"({t_min:.4g} s): that mode cannot be represented and the response would be lost; "
+                f"allowed: dt <= {MAX_DT_PERIOD_FRACTION * t_min:.3g} s (or leave dt out)"
+            )
+        if dt > WARN_DT_PERIOD_FRACTION * t_min:
+            warnings.append(
+                f"analysis.dt = {opts.dt:g} s is longer than a tenth of the shortest natural period "
+                f"({t_min:.4g} s): that mode's period is lengthened and its response filtered"
+            )
+    rows = n_out + 1
+    need = rows * (
+        _BYTES_PER_DOF_ROW * system.n_dof + _BYTES_PER_ELEMENT_ROW * len(system.elements)
+    )
+    need += 8 * 12 * system.n_dof**2  # dense and band matrices of the step
+    have = _physical_memory()
+    if have and need > 0.5 * have:
+        raise PoundingInputError(
+            f"the results would need about {need / 2**30:.1f} GiB ({rows} output rows x "
+            f"{system.n_dof} dofs), more than half of this machine's {have / 2**30:.1f} GiB; "
+            "allowed: a longer analysis.output_dt, a shorter analysis.duration or fewer floors"
+        )
+    return warnings
+
+
+def _physical_memory() -> int:
+    """Physical memory [bytes], 0 when the system does not say."""
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return 0
+
+
 def run(
     system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions
 ) -> tuple[RawResult, dict]:
     """Integrate with validated options; returns the raw result and the provenance of the step choice."""
     ground = ground.starting_from_rest()
     dt, output_dt, every, n_out = step_plan(system, ground, opts)
+    warnings = check_plan(system, opts, dt, n_out)
     info = {
+        "warnings": warnings,
         "dt": dt,
         "output_dt": output_dt,
         "duration": n_out * output_dt,

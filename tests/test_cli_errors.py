@@ -145,10 +145,29 @@ def test_help_shows_the_units_the_first_hour_report_found_missing():
     assert "ASCE 7 S_DS [g]" in out
 
 
-def test_run_that_cannot_write_its_result_keeps_the_old_file_and_says_why(tmp_path):
+def test_run_that_cannot_write_its_result_keeps_the_old_file_and_says_why(tmp_path, monkeypatch):
     out = tmp_path / "out.nc"
     assert runner.invoke(app, ["run", str(TWO_SDOF), "-o", str(out)]).exit_code == 0
     before = out.read_bytes()
+    # a full disk: the flush of the new file fails after it was written
+    import pounding._netcdf
+
+    def full(fd):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(pounding._netcdf.os, "fsync", full)
+    res = runner.invoke(app, ["run", str(TWO_SDOF), "-o", str(out)])
+    assert res.exit_code == 2
+    line = res.output.strip().splitlines()[-1]
+    assert line.startswith("error: ") and "the previous file there is untouched" in line
+    assert "No space left on device" in line
+    assert out.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.nc"]
+
+
+def test_a_name_with_a_control_character_is_refused_before_the_run(tmp_path):
+    # A NUL in a building name reached the HDF5 writer (which refuses it) after the whole run.
+    out = tmp_path / "out.nc"
     bad = tmp_path / "nul.toml"
     bad.write_text(
         TWO_SDOF.read_text()
@@ -157,7 +176,6 @@ def test_run_that_cannot_write_its_result_keeps_the_old_file_and_says_why(tmp_pa
     )
     res = runner.invoke(app, ["run", str(bad), "-o", str(out)])
     assert res.exit_code == 2
-    line = res.output.strip().splitlines()[-1]
-    assert line.startswith("error: ") and "the previous file there is untouched" in line
-    assert out.read_bytes() == before
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["nul.toml", "out.nc"]
+    lines = res.output.strip().splitlines()
+    assert len(lines) == 1 and "building[0].name" in lines[0] and "control characters" in lines[0]
+    assert not out.exists()

@@ -186,6 +186,21 @@ def test_study_report_leads_with_the_record_statistics(study_report):
     assert "Largest median drift amplification" in sec.blocks[0]
 
 
+def test_an_elastic_laws_dissipation_is_shown_as_integration_error(study_report):
+    # Hertz dissipates nothing: what the ledger shows for it is the integration's error, which
+    # printed as a negative dissipation (-0.165 kJ)
+    ds, _ = study_report
+    comparison = next(
+        s for s in build_report(ds).sections if s.title == "Comparison of contact laws"
+    )
+    table = comparison.blocks[-1]
+    col = table.header.index("dissipated [kJ]")
+    hertz = [r for r in table.rows if r[0] == "hertz"]
+    assert hertz and all(r[col].startswith("≈0 (") for r in hertz)
+    flores = [r for r in table.rows if r[0] == "flores"]
+    assert flores and all(float(r[col]) > 0 for r in flores)
+
+
 def test_separation_report_tables_are_the_datasets_figures(separation_report):
     from pounding.report import _g
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +15,7 @@ import xarray as xr
 
 from pounding import plots
 from pounding._version import __version__
+from pounding.contact.laws import get_contact_law
 from pounding.report.document import (
     _MAX_ROWS,
     _NO_CONTACT,
@@ -77,6 +79,14 @@ def _comparison_axes(ds: xr.Dataset) -> tuple[str | None, str | None]:
     return y, x
 
 
+def _dissipated(law: Any, energy: float) -> str:
+    """The contacts' dissipated energy [kJ]; for a law without damping (linear, Hertz) only the
+    integration's error is left, shown as ≈0 with that figure, never as a negative dissipation."""
+    if law is not None and not get_contact_law(str(law)).has_damping and math.isfinite(energy):
+        return f"≈0 ({energy / 1e3:+.2g}: integration error)"
+    return _g(energy / 1e3, 3)
+
+
 def _summary_rows(ds: xr.Dataset, group: list[str]) -> Table:
     """Median and dispersion over records (and the other axes) per combination of ``group``."""
     buildings = [str(b) for b in ds["building"].values]
@@ -105,7 +115,7 @@ def _summary_rows(ds: xr.Dataset, group: list[str]) -> Table:
             _g(_median(force) / 1e6, 3),
             _g(_dispersion(force), 2),
             _g(_median(impacts), 3),
-            _g(_median(s["contact_dissipated_energy"].values.ravel()) / 1e3, 3),
+            _dissipated(sel.get("law"), _median(s["contact_dissipated_energy"].values.ravel())),
             str(int((s["run_status"].values == "failed").sum())),
         ]
         rows.append(row)

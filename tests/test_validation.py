@@ -1,0 +1,219 @@
+"""Typed input checks: every case-file key's type and range, refused before anything is built.
+
+The reproducers of a reliability campaign: wrong TOML types reached the code (tracebacks) or were
+silently read as something else (``adaptive = "false"`` meant true, ``n_floors = 2.7`` built two
+floors, ``dt = true`` became 1 s, ``contact = ""`` meant no contacts).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import os
+import signal
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from typer.testing import CliRunner
+
+from pounding.case import CASE_SCHEMA, CaseError, case_file_reference, case_from_dict
+from pounding.cli import app
+from pounding.errors import PoundingError, PoundingInputError
+from pounding.simulate import simulate
+from pounding.validation import Key, check_table
+
+ROOT = Path(__file__).resolve().parents[1]
+TWO_SDOF = ROOT / "examples" / "two_sdof.toml"
+BASE = tomllib.loads(TWO_SDOF.read_text())
+
+
+def _with(path: tuple, value) -> dict:
+    data = copy.deepcopy(BASE)
+    node = data
+    for key in path[:-1]:
+        node = node[key]
+    if value is _DELETE:
+        del node[path[-1]]
+    else:
+        node[path[-1]] = value
+    return data
+
+
+_DELETE = object()
+
+# (path in the case, value, the key the one-line error must name)
+WRONG = [
+    (("contact",), 5, "contact = 5"),
+    (("contact",), "", "contact = ''"),
+    (("contact", 0, "left"), ["A"], "contact[0].left"),
+    (("contact", 0, "floors"), True, "contact[0].floors"),
+    (("contact", 0, "floors"), [], "contact[0].floors"),
+    (("contact", 0, "e"), {}, "contact[0].e"),
+    (("contact", 0, "e"), 1.5, "contact[0].e"),
+    (("ground_motion", "units"), 1, "ground_motion.units"),
+    (("ground_motion", "amplitude"), True, "ground_motion.amplitude"),
+    (("ground_motion", "dt"), 1e-300, "ground_motion.dt"),
+    (("analysis", "max_halvings"), math.inf, "analysis.max_halvings"),
+    (("analysis", "max_iter"), 1e20, "analysis.max_iter"),
+    (("analysis", "adaptive"), "false", "analysis.adaptive"),
+    (("analysis", "dt"), True, "analysis.dt"),
+    (("analysis", "steps_per_contact"), 2**63 - 1, "analysis.steps_per_contact"),
+    (("analysis", "duration"), 1e9, "analysis.duration"),
+    (("building", 0, "n_floors"), -math.inf, "building[0].n_floors"),
+    (("building", 0, "n_floors"), 2.7, "building[0].n_floors"),
+    (("building", 0, "n_floors"), 100_000, "building[0].n_floors"),
+    (("building", 0, "heights"), [3.0], "heights"),
+    (("building", 0, "damping", "ratio"), "5%", "building[0].damping.ratio"),
+    (("title",), 3, "title"),
+    (("output",), {"drift_limit": -1}, "output.drift_limit"),
+]
+
+
+@pytest.mark.parametrize(("path", "value", "names"), WRONG, ids=[w[2] for w in WRONG])
+def test_wrong_type_or_range_is_refused_naming_the_key(path, value, names):
+    with pytest.raises(CaseError) as err:
+        case_from_dict(_with(path, value))
+    assert names in str(err.value) and "allowed" in str(err.value) or "uniform" in str(err.value)
+
+
+def test_cli_prints_one_line_and_exits_2_for_a_wrong_type(tmp_path):
+    case = tmp_path / "bad.toml"
+    case.write_text(TWO_SDOF.read_text().replace('method = "newmark"', 'adaptive = "false"'))
+    res = CliRunner().invoke(app, ["run", str(case), "-o", str(tmp_path / "out.nc")])
+    assert res.exit_code == 2
+    lines = res.output.strip().splitlines()
+    assert len(lines) == 1 and "analysis.adaptive = 'false'; allowed: true or false" in lines[0]
+    assert not (tmp_path / "out.nc").exists()
+
+
+def test_a_step_that_cannot_represent_the_structure_is_refused():
+    # dt = 100 s gave all-zero peaks and "energy balance error 0 %"
+    case = case_from_dict(_with(("analysis", "output_dt"), _DELETE))
+    with pytest.raises(PoundingInputError, match="half the shortest natural period"):
+        simulate(case, dt=0.4)
+    # so short a step that its round-off swamps the response (balance error 27 at dt = 1.2e-7 s;
+    # 9e-6 at 1e-6 s): refused with the case-file key's range
+    with pytest.raises(CaseError, match=r"analysis\.dt = 1\.2e-07; allowed: a number >= 1e-06"):
+        case_from_dict(_with(("analysis", "dt"), 1.2e-7))
+    # a step between a tenth and half of it runs, with a warning in the result
+    ds = simulate(case, dt=0.06)
+    assert "a tenth of the shortest natural period" in ds.attrs["warnings"]
+
+
+def test_a_result_too_large_for_memory_is_refused_with_its_estimate():
+    case = case_from_dict(_with(("analysis", "output_dt"), 1e-6))
+    with pytest.raises(PoundingInputError, match=r"would need about [0-9.]+ GiB"):
+        simulate(case, duration=1e4)
+
+
+def test_drift_beyond_the_limit_is_flagged():
+    # examples/two_sdof.toml: 6.7 % drift from elastic stories, which nothing said
+    ds = simulate(case_from_dict(BASE))
+    warnings = ds.pounding.summary()["warnings"]
+    assert any("building B: peak drift ratio" in w and "0.02" in w for w in warnings)
+    relaxed = simulate(case_from_dict(_with(("output",), {"drift_limit": 0.5})))
+    assert relaxed.attrs["drift_limit"] == 0.5
+    assert relaxed.pounding.summary()["warnings"] == []
+
+
+def test_a_list_names_the_bad_element():
+    keys = (Key("masses", "numbers", "floor masses", "kg", 0.0, open_low=True),)
+    with pytest.raises(ValueError, match=r"x\.masses\[1\] = -1; allowed: a number > 0 \[kg\]"):
+        check_table({"masses": [1.0, -1]}, keys, "x")
+    assert check_table({"masses": [1, 2.5]}, keys, "x") == {"masses": [1.0, 2.5]}
+
+
+def test_case_file_reference_is_generated_from_the_schema():
+    # docs/case_file.md is the schema's own text: regenerate it with
+    # python -c "from pounding.case import case_file_reference; print(case_file_reference())"
+    doc = (ROOT / "docs" / "case_file.md").read_text()
+    assert doc == case_file_reference() + "\n"
+    for table, keys in CASE_SCHEMA.items():
+        for key in keys:
+            assert f"`{key.name}`" in doc, (table, key.name)
+
+
+# --- the fuzzer: valid case files perturbed key by key ---
+
+_PATHS = [
+    ("title",),
+    *[("building", i, k) for i in (0, 1) for k in ("name", "n_floors", "period", "mass", "height")],
+    ("building", 0, "damping", "ratio"),
+    ("building", 0, "damping", "modes"),
+    ("building", 1, "heights"),
+    *[("contact", 0, k) for k in ("left", "right", "gap", "law", "k", "e", "n", "floors", "a")],
+    ("contact", 0, "calibration"),
+    ("contact",),
+    *[("ground_motion", k) for k in ("type", "amplitude", "units", "period", "duration", "dt")],
+    *[("analysis", k) for k in ("method", "dt", "output_dt", "duration", "alpha", "tol")],
+    *[("analysis", k) for k in ("max_iter", "max_halvings", "locate_onset", "adaptive")],
+    ("analysis", "steps_per_contact"),
+    ("output", "drift_limit"),
+]
+_VALUES = st.one_of(
+    st.sampled_from(
+        [True, False, "", "x", "false", [], {}, [1], [[1, 1]], -1, 0, 1, 2.7, -2.7, 1e-300, 1e300]
+    ),
+    st.sampled_from([math.inf, -math.inf, math.nan, 2**63 - 1, -(2**63), "\x00", _DELETE]),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(min_value=-(2**63), max_value=2**63 - 1),
+)
+
+
+def _perturbed(path: tuple, value) -> dict:
+    data = copy.deepcopy(BASE)
+    data["building"][0]["damping"] = {"ratio": 0.05, "modes": [1, 2]}
+    data["output"] = {"drift_limit": 0.5}
+    data["ground_motion"]["duration"] = 1.5  # s: a 500-floor building must run within the alarm
+    node = data
+    for key in path[:-1]:
+        node = node[key]
+    if value is _DELETE:
+        node.pop(path[-1], None)
+    else:
+        node[path[-1]] = value
+    return data
+
+
+@settings(max_examples=int(os.environ.get("POUNDING_FUZZ_EXAMPLES", "200")), deadline=None)
+@given(path=st.sampled_from(_PATHS), value=_VALUES)
+def test_fuzzed_case_file_is_refused_in_one_line_or_runs_with_a_closed_ledger(path, value):
+    # Every perturbed case either fails before the run with an error naming the key (or the
+    # table that holds it), or runs and reports an energy balance error below 1 %; nothing else:
+    # no other exception, no hang (30 s alarm), no NaN.
+    data = _perturbed(path, value)
+    try:
+        case = case_from_dict(data)
+    except CaseError as exc:
+        message = str(exc)
+        named = [str(p) for p in path if isinstance(p, str)]
+        assert "\n" not in message
+        assert any(n in message for n in named) or "building" in message or "uniform" in message
+        return
+    signal.signal(signal.SIGALRM, _timeout)
+    signal.alarm(30)
+    try:
+        ds = simulate(case)
+    except PoundingError as exc:
+        assert "\n" not in str(exc)
+        return
+    finally:
+        signal.alarm(0)
+    assert ds.attrs["energy_balance_error"] < 1e-2
+    assert np.isfinite(ds["displacement"].values[:, :, 0]).all()
+
+
+def _timeout(signum, frame):
+    raise AssertionError("the analysis took longer than 30 s")
+
+
+def test_command_line_overrides_are_checked_like_case_keys(tmp_path):
+    res = CliRunner().invoke(app, ["run", str(TWO_SDOF), "--dt", "1e-8"])
+    assert res.exit_code == 2
+    assert (
+        res.output.strip() == "error: analysis.dt = 1e-08; allowed: a number >= 1e-06 and <= 1 [s]"
+    )
