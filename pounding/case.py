@@ -466,6 +466,11 @@ def read_case_file(path: str | Path) -> dict[str, Any]:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise CaseError(
+            f"{path}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at position {exc.start}); "
+            "allowed: a UTF-8 TOML file"
+        ) from None
 
 
 def load_case(path: str | Path) -> Case:

@@ -217,3 +217,14 @@ def test_command_line_overrides_are_checked_like_case_keys(tmp_path):
     assert (
         res.output.strip() == "error: analysis.dt = 1e-08; allowed: a number >= 1e-06 and <= 1 [s]"
     )
+
+
+def test_a_case_file_that_is_not_utf8_is_one_line(tmp_path):
+    bad = tmp_path / "latin1.toml"
+    bad.write_bytes('title = "Bâtiment"\n'.encode("latin-1"))
+    res = CliRunner().invoke(app, ["run", str(bad)])
+    assert res.exit_code == 2
+    assert (
+        res.output.strip()
+        == f"error: {bad}: not UTF-8 text (byte 0xe2 at position 10); allowed: a UTF-8 TOML file"
+    )
