@@ -24,6 +24,7 @@ COMPILED_SOURCES = (
     "_numba.py",
     "integrators/_kernels.py",
     "integrators/ivp.py",
+    "integrators/sdof.py",
     "contact/laws.py",
     "friction.py",
     "system.py",

@@ -357,6 +357,60 @@ def _row_max(values: np.ndarray) -> np.ndarray:
     return out
 
 
+#: Floor response spectra: 5 % damped pseudo-spectral acceleration of the absolute floor
+#: acceleration over these periods [s]; periods shorter than FRS_MIN_STEPS output steps are NaN (the
+#: stored history does not resolve them).
+FRS_PERIODS = np.geomspace(0.02, 5.0, 60)
+FRS_DAMPING = 0.05
+FRS_MIN_STEPS = 4
+ATTRS["period"] = {"units": "s", "long_name": "oscillator period"}
+ATTRS["floor_spectrum"] = {
+    "units": "m/s^2",
+    "long_name": "floor response spectrum: 5 % damped pseudo-spectral acceleration of the absolute "
+    "floor acceleration",
+}
+
+
+def with_floor_spectra(result: ResultVariables, floors: Any) -> ResultVariables:
+    """``result`` with ``floor_spectrum`` (building, floor, period) for the chosen floors: "roof"
+    (each building's top floor), "all", or a list of floor numbers (those a building has). NaN for
+    the other floors and for periods shorter than FRS_MIN_STEPS output steps. From the stored
+    absolute acceleration, linear between output steps (Nigam and Jennings 1969 recurrence, one
+    period of free vibration after the record)."""
+    from pounding.integrators.sdof import spectral_peaks
+
+    _, acc, _ = result.variables["absolute_acceleration"]
+    time = result.variables["time"][1]
+    dt = float(time[1] - time[0]) if time.size > 1 else float("nan")
+    heights = result.variables["floor_mass"][1]  # NaN beyond a building's top floor
+    n_b, width = heights.shape
+    out = np.full((n_b, width, FRS_PERIODS.size), np.nan)
+    resolved = FRS_PERIODS >= FRS_MIN_STEPS * dt
+    for b in range(n_b):
+        n_floors = int(np.sum(~np.isnan(heights[b])))
+        if floors == "roof":
+            chosen = [n_floors]
+        elif floors == "all":
+            chosen = list(range(1, n_floors + 1))
+        else:
+            chosen = [f for f in floors if 1 <= f <= n_floors]
+        for f in chosen:
+            if resolved.any():
+                peaks = spectral_peaks(acc[:, b, f - 1], dt, FRS_PERIODS[resolved], FRS_DAMPING)
+                w = 2.0 * np.pi / FRS_PERIODS[resolved]
+                out[b, f - 1, resolved] = w**2 * peaks[:, 0]
+    variables = {k: v for k, v in result.variables.items() if k not in result.coords}
+    variables["floor_spectrum"] = (
+        ("building", "floor", "period"),
+        out,
+        dict(ATTRS["floor_spectrum"]),
+    )
+    variables.update({k: result.variables[k] for k in result.coords})
+    variables["period"] = (("period",), FRS_PERIODS.copy(), dict(ATTRS["period"]))
+    attrs = {**result.attrs, "floor_spectra_damping": FRS_DAMPING}
+    return ResultVariables(variables, [*result.coords, "period"], attrs)
+
+
 def _floor_shears(system: PoundingSystem, raw: RawResult, slices: list[slice]) -> np.ndarray:
     """Story shear [N] under every floor dof (time × dof): V_i = Σ_{j ≥ i} (K u + C v)_j over the
     building's floors, taken from their equilibrium, −Σ_{j ≥ i} (m_j ü_j^abs + Σ_c s_cj f_c), so the

@@ -395,6 +395,19 @@ def case_from_dict(
         if "title" in data and not isinstance(data["title"], str):
             raise CaseError(f"title = {data['title']!r}; allowed: a text")
         output = _checked(data.get("output", {}), OUTPUT_KEYS, "output")
+        frs = output.get("floor_spectra")
+        if frs is not None and not (
+            frs in ("roof", "all")
+            or (
+                isinstance(frs, list)
+                and frs
+                and all(isinstance(f, int) and not isinstance(f, bool) and f >= 1 for f in frs)
+            )
+        ):
+            raise CaseError(
+                f'output.floor_spectra = {frs!r}; allowed: "roof", "all" or a non-empty list '
+                "of floor numbers >= 1"
+            )
         buildings = []
         for i, spec in enumerate(blds):
             try:

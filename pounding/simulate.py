@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from pounding._schema import ResultVariables, result_variables, with_baseline
+from pounding._schema import ResultVariables, result_variables, with_baseline, with_floor_spectra
 from pounding._version import __version__
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
@@ -162,6 +162,12 @@ OUTPUT_KEYS = (
         1.0,
         open_low=True,
     ),
+    Key(
+        "floor_spectra",
+        "any",
+        '"roof", "all" or a list of floor numbers: floor response spectra (5 % damped PSa of the '
+        "absolute floor acceleration, 0.02-5 s) stored as floor_spectrum (default none)",
+    ),
 )
 
 #: The ``[analysis]`` keys: type, unit, range and meaning (the case-file reference is made from them).
@@ -290,6 +296,8 @@ def simulate_variables(
         result = with_baseline(result, _variables(free, ground, opts, title))
     output = getattr(case_or_system, "output", None) or {}
     result.attrs["drift_limit"] = float(output.get("drift_limit", DRIFT_LIMIT))
+    if output.get("floor_spectra"):
+        result = with_floor_spectra(result, output["floor_spectra"])
     return result
 
 

@@ -70,6 +70,8 @@ WRONG = [
     (("building", 0, "damping", "ratio"), "5%", "building[0].damping.ratio"),
     (("title",), 3, "title"),
     (("output",), {"drift_limit": -1}, "output.drift_limit"),
+    (("output",), {"floor_spectra": "top"}, "output.floor_spectra"),
+    (("output",), {"floor_spectra": [0]}, "output.floor_spectra"),
 ]
 
 
@@ -153,6 +155,7 @@ _PATHS = [
     *[("analysis", k) for k in ("max_iter", "max_halvings", "locate_onset", "adaptive")],
     ("analysis", "steps_per_contact"),
     ("output", "drift_limit"),
+    ("output", "floor_spectra"),
 ]
 _VALUES = st.one_of(
     st.sampled_from(
