@@ -49,6 +49,9 @@ ATTRS: dict[str, dict[str, str]] = {
     "contact_n": {"units": "1", "long_name": "contact exponent n"},
     "contact_e": {"units": "1", "long_name": "nominal coefficient of restitution"},
     "contact_effective_mass": {"units": "kg", "long_name": "effective mass of the impact"},
+    "contact_a": {"units": "1", "long_name": "bilinear yield fraction delta_y/delta_m"},
+    "contact_delta_m": {"units": "m", "long_name": "bilinear maximum penetration delta_m"},
+    "contact_calibration": {"long_name": "damping calibration to e: nominal or exact"},
     "displacement": {"units": "m", "long_name": "floor displacement relative to ground"},
     "velocity": {"units": "m/s", "long_name": "floor velocity relative to ground"},
     "absolute_acceleration": {"units": "m/s^2", "long_name": "absolute floor acceleration"},
@@ -291,6 +294,12 @@ def result_variables(
             np.array([np.nan if c.e is None else float(c.e) for c in group]),
         ),
         "contact_effective_mass": (("contact",), el.el_mass),
+        "contact_a": (("contact",), np.array([float(c.a) for c in group])),
+        "contact_delta_m": (
+            ("contact",),
+            np.array([np.nan if c.delta_m is None else float(c.delta_m) for c in group]),
+        ),
+        "contact_calibration": (("contact",), np.array([c.calibration for c in group], dtype=str)),
         "base_type": (
             ("building",),
             np.array([b.base.type if b.base is not None else "fixed" for b in bl], dtype=str),

@@ -217,6 +217,47 @@ def displacement_histories(ds: xr.Dataset) -> Figure:
     return fig
 
 
+def shear_envelopes(ds: xr.Dataset) -> Figure:
+    """Peak story shear [MN] over the height of every building, with contact (solid) and, when the
+    result has its no-contact baseline, without (dashed)."""
+    fig, axes = _figure(3.6)
+    ax = axes[0, 0]
+    sets = [("peak_story_shear", "-", "")]
+    if "no_contact_peak_story_shear" in ds:
+        sets.append(("no_contact_peak_story_shear", "--", " no contact"))
+    for k, name in enumerate(_buildings(ds)):
+        n = _n_floors(ds, name)
+        z = np.concatenate(([0.0], ds["floor_elevation"].sel(building=name).values[:n]))
+        for var, ls, tag in sets:
+            shear = ds[var].sel(building=name).values[:n] / 1e6
+            ax.plot(np.repeat(shear, 2), np.repeat(z, 2)[1:-1], ls, color=f"C{k}",
+                    label=plain_text(f"{name}{tag}"))  # fmt: skip
+    ax.set_xlabel("peak story shear [MN]")
+    ax.set_ylabel(label(ds["floor_elevation"]) if "floor_elevation" in ds else "elevation [m]")
+    ax.set_xlim(left=0.0)
+    ax.legend(fontsize="x-small")
+    ax.grid(True, alpha=0.3)
+    return fig
+
+
+def floor_spectra(ds: xr.Dataset) -> Figure:
+    """Floor response spectra (``floor_spectrum``): PSa of each chosen floor against the period."""
+    fig, axes = _figure(3.4)
+    ax = axes[0, 0]
+    frs = ds["floor_spectrum"]
+    for name in _buildings(ds):
+        for floor in frs.sel(building=name).dropna("floor", how="all")["floor"].values:
+            ax.plot(ds["period"].values, frs.sel(building=name, floor=floor).values,
+                    label=plain_text(f"{name} floor {int(floor)}"))  # fmt: skip
+    ax.set_xscale("log")
+    ax.set_xlabel(label(ds["period"]))
+    damping = 100 * float(ds.attrs.get("floor_spectra_damping", 0.05))
+    ax.set_ylabel(f"PSa, {damping:g} % damping [m/s²]")
+    ax.legend(fontsize="x-small")
+    ax.grid(True, which="both", alpha=0.3)
+    return fig
+
+
 def envelopes(
     ds: xr.Dataset, other: xr.Dataset | None = None, names: tuple[str, str] = ("", "")
 ) -> Figure:

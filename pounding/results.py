@@ -167,7 +167,7 @@ class PoundingAccessor:
 
     def summary(self) -> dict[str, Any]:
         """Headline numbers: periods, peaks per building, impacts per contact, energy balance error."""
-        ds = self._ds.transpose(*_DIM_ORDER, missing_dims="ignore")
+        ds = self._ds.transpose(*_DIM_ORDER, ..., missing_dims="ignore")
         return _summary({n: (v.dims, v.values) for n, v in ds.variables.items()}, ds.attrs)
 
     def statistics(self, over: str = "record") -> xr.Dataset:

@@ -6,6 +6,7 @@ import copy
 from pathlib import Path
 
 import pytest
+from test_validation import edited
 
 from pounding.case import CaseError, case_from_dict, load_case
 from pounding.units import G
@@ -42,15 +43,7 @@ def test_case_builds_system_and_converts_units():
 
 
 def _broken(path: list, value) -> dict:
-    data = copy.deepcopy(BASE)
-    target = data
-    for key in path[:-1]:
-        target = target[key]
-    if value is KeyError:
-        del target[path[-1]]
-    else:
-        target[path[-1]] = value
-    return data
+    return edited(BASE, tuple(path), value)
 
 
 @pytest.mark.parametrize(

@@ -100,3 +100,30 @@ def test_bearing_hysteresis_is_labelled_from_cf_attributes():
     ax = fig.axes[0]
     assert "[m]" in ax.get_xlabel() and "[N]" in ax.get_ylabel()
     assert 0.0 < plots.friction_share(ds) < 1.0
+
+
+def test_shear_envelopes_and_floor_spectra_draw_the_datasets_values():
+    import tomllib
+
+    from pounding.case import case_from_dict
+
+    data = tomllib.loads((ROOT / "examples" / "three_vs_eight_story.toml").read_text())
+    data["output"] = {"floor_spectra": "roof"}
+    ds = simulate(case_from_dict(data), baseline=True)
+    fig = plots.shear_envelopes(ds)
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "peak story shear [MN]"
+    with_b, without_b = ax.lines[2], ax.lines[3]  # building B, with and without contact
+    assert without_b.get_linestyle() == "--" and without_b.get_label() == "B no contact"
+    np.testing.assert_allclose(
+        with_b.get_xdata()[::2], ds["peak_story_shear"].sel(building="B") / 1e6
+    )
+    np.testing.assert_allclose(
+        without_b.get_xdata()[::2], ds["no_contact_peak_story_shear"].sel(building="B") / 1e6
+    )
+    fig = plots.floor_spectra(ds)
+    (roof_a, roof_b) = fig.axes[0].lines
+    assert roof_a.get_label() == "A floor 3" and roof_b.get_label() == "B floor 8"
+    np.testing.assert_array_equal(
+        roof_b.get_ydata(), ds["floor_spectrum"].sel(building="B", floor=8)
+    )

@@ -463,3 +463,33 @@ def test_separation_report_names_its_lognormal_fit(separation_report):
     beta = fit_lognormal(exact).beta
     assert beta == pytest.approx(float(ds["lognormal_beta"].sel(interface="A|B")))
     assert f"β {_g(beta, 3)}" in fit
+
+
+def test_a_law_whose_effective_e_misses_its_nominal_one_is_flagged():
+    # Lankarani–Nikravesh at e = 0.65 rebounds at 0.775 in a free impact (independent DOP853 solve):
+    # the report says so and names the fix; Hunt–Crossley with calibration = "exact" is not flagged.
+    from pounding.contact.calibrate import effective_restitution
+    from pounding.report.sections import _contact_law_table
+
+    row = {"law": "lankarani_nikravesh", "k": 2.75e9, "mass": 1.5e5, "v0": 0.5, "observed": True}
+    table = _contact_law_table([{**row, "e": 0.65}])
+    e_eff = effective_restitution("lankarani_nikravesh", k=2.75e9, mass=1.5e5, v0=0.5, e=0.65)
+    assert f"effective e of {e_eff.e_effective:.3f} for the nominal 0.65" in table.caption
+    assert 'calibration = "exact"' in table.caption
+    exact = {**row, "law": "hunt_crossley", "e": 0.65, "calibration": "exact"}
+    assert "Warning" not in _contact_law_table([exact]).caption
+
+
+@pytest.mark.parametrize(("calibration", "flagged"), [("nominal", True), ("exact", False)])
+def test_analysis_report_flags_the_restitution_of_the_law_as_run(calibration, flagged):
+    # the result records each contact's calibration (contact_calibration), so the report's
+    # single-impact check uses the law as it ran
+    import tomllib
+
+    data = tomllib.loads((ROOT / "examples" / "three_vs_eight_story.toml").read_text())
+    data["contact"][0].update(law="lankarani_nikravesh", calibration=calibration)
+    ds = simulate(case_from_dict(data))
+    assert set(ds["contact_calibration"].values) == {calibration}
+    model = next(s for s in build_report(ds).sections if s.title == "Model")
+    table = next(b for b in model.blocks if hasattr(b, "header") and "effective e" in b.header)
+    assert ("Warning: lankarani_nikravesh" in table.caption) is flagged

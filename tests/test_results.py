@@ -366,6 +366,7 @@ def test_floor_response_spectrum_of_the_roof_matches_an_independent_sdof_solutio
     ds = simulate(case_from_dict(data))
     frs = ds["floor_spectrum"]
     assert frs.dims == ("building", "floor", "period") and frs.attrs["units"] == "m/s^2"
+    assert ds.pounding.summary()["buildings"]["A"]["peak_drift_ratio"] > 0  # the extra dimension
     assert list(frs.sel(building="A").dropna("floor", how="all")["floor"].values) == [3]
     assert list(frs.sel(building="B").dropna("floor", how="all")["floor"].values) == [8]
     acc = ds["absolute_acceleration"].sel(building="A", floor=3).values

@@ -31,19 +31,24 @@ TWO_SDOF = ROOT / "examples" / "two_sdof.toml"
 BASE = tomllib.loads(TWO_SDOF.read_text())
 
 
-def _with(path: tuple, value) -> dict:
-    data = copy.deepcopy(BASE)
+def edited(base: dict, path: tuple, value) -> dict:
+    """A deep copy of ``base`` with the value at ``path`` replaced (deleted for ``KeyError``)."""
+    data = copy.deepcopy(base)
     node = data
     for key in path[:-1]:
         node = node[key]
-    if value is _DELETE:
-        del node[path[-1]]
+    if value is KeyError:
+        node.pop(path[-1], None)
     else:
         node[path[-1]] = value
     return data
 
 
-_DELETE = object()
+def _with(path: tuple, value) -> dict:
+    return edited(BASE, path, value)
+
+
+_DELETE = KeyError
 
 # (path in the case, value, the key the one-line error must name)
 WRONG = [
@@ -168,18 +173,11 @@ _VALUES = st.one_of(
 
 
 def _perturbed(path: tuple, value) -> dict:
-    data = copy.deepcopy(BASE)
-    data["building"][0]["damping"] = {"ratio": 0.05, "modes": [1, 2]}
-    data["output"] = {"drift_limit": 0.5}
-    data["ground_motion"]["duration"] = 1.5  # s: a 500-floor building must run within the alarm
-    node = data
-    for key in path[:-1]:
-        node = node[key]
-    if value is _DELETE:
-        node.pop(path[-1], None)
-    else:
-        node[path[-1]] = value
-    return data
+    base = copy.deepcopy(BASE)
+    base["building"][0]["damping"] = {"ratio": 0.05, "modes": [1, 2]}
+    base["output"] = {"drift_limit": 0.5}
+    base["ground_motion"]["duration"] = 1.5  # s: a 500-floor building must run within the alarm
+    return edited(base, path, value)
 
 
 @settings(max_examples=int(os.environ.get("POUNDING_FUZZ_EXAMPLES", "200")), deadline=None)

@@ -24,7 +24,22 @@ def _analysis_law_rows(ds: xr.Dataset) -> list[dict[str, Any]]:
         law = str(sel["contact_law"].item())
         n = float(sel["contact_n"]) if "contact_n" in ds else float("nan")
         e = float(sel["contact_e"]) if "contact_e" in ds else float("nan")
-        key = (law, float(sel["contact_k"]), n, e, float(sel["contact_effective_mass"]))
+        # results written before these were recorded take the defaults
+        a = float(sel["contact_a"]) if "contact_a" in ds else 0.1
+        delta_m = float(sel["contact_delta_m"]) if "contact_delta_m" in ds else math.nan
+        calibration = (
+            str(sel["contact_calibration"].item()) if "contact_calibration" in ds else "nominal"
+        )
+        key = (
+            law,
+            float(sel["contact_k"]),
+            n,
+            e,
+            float(sel["contact_effective_mass"]),
+            a,
+            delta_m,
+            calibration,
+        )
         v0 = impacts.loc[impacts["contact"] == c, "v0"].to_numpy()
         row = groups.setdefault(
             key,
@@ -34,6 +49,9 @@ def _analysis_law_rows(ds: xr.Dataset) -> list[dict[str, Any]]:
                 "n": None if math.isnan(n) else n,
                 "e": None if math.isnan(e) else e,
                 "mass": key[4],
+                "a": a,
+                "delta_m": None if math.isnan(delta_m) else delta_m,
+                "calibration": calibration,
                 "v": [],
             },
         )
@@ -164,6 +182,26 @@ def _results_section(ds: xr.Dataset, contacts: Table | None) -> Section:
             "Peak displacement and peak inter-story drift ratio over the height.",
         )
     )
+    res.blocks.append(
+        Plot(
+            plots.shear_envelopes(ds),
+            "Peak story shear over the height"
+            + (
+                ", with contact (solid) and without (dashed)"
+                if "no_contact_peak_story_shear" in ds
+                else ""
+            )
+            + "; from the equilibrium of the floors above (output steps).",
+        )
+    )
+    if "floor_spectrum" in ds:
+        res.blocks.append(
+            Plot(
+                plots.floor_spectra(ds),
+                "Floor response spectra: 5 % damped pseudo-spectral acceleration of the absolute "
+                "floor acceleration, the demand on non-structural components.",
+            )
+        )
     if contacts:
         res.blocks.append(contacts)
         res.blocks.append(

@@ -19,6 +19,10 @@ from pounding.report.document import NOMINAL_V0, Plot, Section, Table, _g
 from pounding.spectra import response_spectra, response_spectrum
 from pounding.units import G
 
+#: A law whose single-impact restitution differs from its nominal e by more than this fraction is
+#: flagged (Lankarani–Nikravesh at e = 0.65 gives 0.775).
+E_MISMATCH = 0.05
+
 
 def _contact_law_table(rows: list[dict[str, Any]]) -> Table:
     """Nominal and effective restitution of each (law, parameters), one impact at v0 on m̄."""
@@ -42,6 +46,17 @@ def _contact_law_table(rows: list[dict[str, Any]]) -> Table:
                 calibration=r.get("calibration", "nominal"),
             )
             eff = f"{res.e_effective:.3f}"
+            if law.has_damping and e_nom and abs(res.e_effective - e_nom) > E_MISMATCH * e_nom:
+                fix = (
+                    "a delta_m consistent with the observed penetration"
+                    if law.is_bilinear
+                    else 'calibration = "exact"'
+                )
+                notes.add(
+                    f"Warning: {law.name} gives an effective e of {res.e_effective:.3f} for the "
+                    f"nominal {e_nom:g} ({100 * (res.e_effective / e_nom - 1):+.0f} %): set {fix} "
+                    "to get the e you mean."
+                )
             extra = [
                 _g(res.peak_force / 1e6, 3),
                 _g(res.max_penetration * 1e3, 3),
