@@ -9,6 +9,7 @@ and table names such as ``[analysis]`` are shown as written.
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable
 from functools import wraps
@@ -363,7 +364,35 @@ def laws_restitution(
 # --- separation verb ---
 
 
-def _print_separation(ds: Any, path: str | None) -> None:
+def _na(value: float, width: int = 10) -> str:
+    """A number to 4 significant digits, or "n/a" for an estimate that does not apply (NaN)."""
+    import math
+
+    return f"{value:{width}.4g}" if math.isfinite(value) else f"{'n/a':>{width}s}"
+
+
+def _verdict(name: str, exact: list[float], gap: float | None) -> str:
+    """The case's gap against the exact required gaps of the records, in one line."""
+    import numpy as np
+
+    finite = [g for g in exact if np.isfinite(g)]
+    if gap is None or not finite:
+        return f"  verdict {name}: n/a (no gap in the case for this interface, or no exact gap)"
+    required = float(np.median(finite))
+    hits = sum(g > gap for g in finite)
+    basis = f"exact, median of {len(finite)} record{'s' if len(finite) > 1 else ''}"
+    if gap < required:
+        return (
+            f"  verdict {name}: gap {gap:.3f} m < required {required:.3f} m ({basis}): pounding "
+            f"expected (in {hits} of {len(finite)} records)"
+        )
+    return (
+        f"  verdict {name}: gap {gap:.3f} m >= required {required:.3f} m ({basis}): no pounding "
+        f"in the median record (pounding in {hits} of {len(finite)} records)"
+    )
+
+
+def _print_separation(ds: Any, path: str | None, gaps: dict[str, float] | None = None) -> None:
     import math
 
     from pounding.separation import separation_summary
@@ -403,12 +432,13 @@ def _print_separation(ds: Any, path: str | None) -> None:
         typer.echo(f"    {'required gap':<52s} {stat_head}   basis")
         for row in f["table"]:
             if len(recs) == 1 or row["estimate"] == "lognormal_target":
-                values = f"{row['median']:10.4g}"
+                values = _na(row["median"])
                 if len(recs) > 1:
                     values += " " * 22
             else:
-                values = f"{row['median']:10.4g} {row['p84']:10.4g} {row['max']:10.4g}"
+                values = f"{_na(row['median'])} {_na(row['p84'])} {_na(row['max'])}"
             typer.echo(f"    {row['label']:<52s} {values}   {row['basis']}")
+        typer.echo(_verdict(f["name"], f["exact_gaps"], (gaps or {}).get(f["name"])))
     typer.echo("")
     typer.echo(
         "  probability of pounding vs gap (fraction of records with contact | lognormal fit)"
@@ -502,7 +532,11 @@ def separation(
     ds = separation_analysis(loaded, options=options, **overrides)
     if output:
         save(ds, output)
-    _print_separation(ds, output)
+    gaps: dict[str, float] = {}
+    for c in loaded.contacts:  # the case's gap of each interface (its smallest, if floors differ)
+        name = f"{c.left}|{c.right}"
+        gaps[name] = min(gaps.get(name, math.inf), float(c.gap))
+    _print_separation(ds, output, gaps)
 
 
 # --- end separation verb ---

@@ -146,3 +146,30 @@ def test_run_isolated_example_prints_base_displacement(tmp_path):
     t_iso = 2 * math.pi * math.sqrt(2.2 / 9.80665)
     assert f"isolated period 2π√(R/g) = {t_iso:.3g} s" in res.output
     assert "(PGA 0.375 g as analysed" in res.output
+
+
+def test_separation_says_whether_the_cases_gap_suffices(tmp_path):
+    # One verdict line per interface: the case's gap against the median exact required gap of the
+    # records, with the count of records that pound; estimates that do not apply print n/a.
+    import numpy as np
+    from test_separation import CASE_TOML
+
+    case = tmp_path / "case.toml"
+    case.write_text(
+        CASE_TOML
+        + '\n[separation]\nrecords = ["synthetic:kanai-tajimi?seed=1&pga=0.3&duration=5", '
+        '"synthetic:kanai-tajimi?seed=2&pga=0.3&duration=5", '
+        '"synthetic:kanai-tajimi?seed=3&pga=0.3&duration=5"]\n'
+    )
+    out = tmp_path / "sep.nc"
+    res = runner.invoke(app, ["separation", str(case), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "nan" not in res.output
+    ds = open_result(out)
+    exact = ds["required_gap"].sel(estimate="time_history", interface="A|B").values
+    required = float(np.median(exact))
+    hits = int((exact > 0.05).sum())
+    line = next(ln for ln in res.output.splitlines() if ln.startswith("  verdict A|B"))
+    relation = "<" if 0.05 < required else ">="
+    assert f"gap 0.050 m {relation} required {required:.3f} m (exact, median of 3 records)" in line
+    assert f"{hits} of 3 records" in line
