@@ -590,17 +590,28 @@ def heatmap(
     values = med.values
     finite = values[np.isfinite(values)]
     vmin, vmax = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-    im = ax.imshow(values, aspect="auto", cmap="viridis", vmin=vmin, vmax=vmax)
+    ratio = variable.endswith("_amplification")
+    if ratio:
+        # a ratio to the no-contact run: diverging about 1 with symmetric limits 1 ± d, so more
+        # and less than without contact read at a glance
+        d = max(abs(vmin - 1.0), abs(vmax - 1.0), 0.05) if finite.size else 0.5
+        vmin, vmax = 1.0 - d, 1.0 + d
+        im = ax.imshow(values, aspect="auto", cmap="RdBu_r", vmin=vmin, vmax=vmax)
+    else:
+        im = ax.imshow(values, aspect="auto", cmap="viridis", vmin=vmin, vmax=vmax)
     for (i, j), v in np.ndenumerate(values):
         if math.isfinite(v):
-            light = (v - vmin) / (vmax - vmin or 1.0) < 0.6
+            if ratio:  # white text on the strong ends of the diverging map
+                light = abs(v - 1.0) > 0.6 * (vmax - 1.0)
+            else:
+                light = (v - vmin) / (vmax - vmin or 1.0) < 0.6
             ax.text(
                 j,
                 i,
                 fmt.format(v),
                 ha="center",
                 va="center",
-                fontsize="x-small",
+                fontsize="small",
                 color="w" if light else "k",
             )
     ax.set_xticks(

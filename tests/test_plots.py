@@ -127,3 +127,18 @@ def test_shear_envelopes_and_floor_spectra_draw_the_datasets_values():
     np.testing.assert_array_equal(
         roof_b.get_ydata(), ds["floor_spectrum"].sel(building="B", floor=8)
     )
+
+
+def test_amplification_heatmap_diverges_about_one_with_symmetric_limits(study):
+    # ratios to the no-contact run: a diverging map centred on 1, limits 1 - d and 1 + d
+    fig = plots.heatmap(study, "drift_amplification", "gap", "law", building="L")
+    image = fig.axes[0].images[0]
+    norm = image.norm
+    assert image.get_cmap().name == "RdBu_r"
+    assert norm.vmin + norm.vmax == pytest.approx(2.0)  # 1 - d and 1 + d
+    values = study["drift_amplification"].sel(building="L", law=["hertz", "flores"])
+    med = values.median("record").values
+    assert norm.vmin <= med.min() and med.max() <= norm.vmax
+    # a force is no ratio: a sequential map
+    fig = plots.heatmap(study, "peak_contact_force", "gap", "law")
+    assert fig.axes[0].images[0].get_cmap().name == "viridis"
