@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import xarray as xr
+from matplotlib import cm
 from matplotlib.figure import Figure
 
 from pounding.units import G
@@ -186,15 +187,13 @@ def displacement_histories(ds: xr.Dataset) -> Figure:
     which = ds["impact_contact"].values if "impact_contact" in ds else np.array([], dtype=int)
     for ax, name in zip(axes[:, 0], names, strict=True):
         n = _n_floors(ds, name)
-        floors = {n}
-        for c in ds["contact"].values:
-            for side in ("left", "right"):
-                if ds[f"contact_{side}"].values[c] == name:
-                    floors.add(int(ds[f"contact_{side}_floor"].values[c]))
-        for f in sorted(floors, reverse=True):
+        floors = _struck_floors(ds, name, n)
+        for k, f in enumerate(sorted(floors, reverse=True)):
             uf = _floor_history(ds, name, f)
             text = "base slab" if f == 0 else f"floor {f}"
-            line = ax.plot(ds["time"], uf, lw=0.8, label=text)
+            # colour by height when many floors are drawn (dark low, light high)
+            colour = cm.viridis(0.85 * f / max(n, 1)) if len(floors) > 4 else f"C{k}"
+            line = ax.plot(ds["time"], uf, lw=0.8, label=text, color=colour)
             # an impact marked on the floor it hits, at its start
             for c in ds["contact"].values:
                 sides = [
@@ -215,6 +214,26 @@ def displacement_histories(ds: xr.Dataset) -> Figure:
         ax.legend(fontsize="x-small", ncol=4, loc="upper right")
     axes[-1, 0].set_xlabel(label(ds["time"]))
     return fig
+
+
+#: Most floors a displacement history panel draws (the roof and the most struck contact floors).
+MAX_HISTORY_FLOORS = 6
+
+
+def _struck_floors(ds: xr.Dataset, name: str, n: int) -> set[int]:
+    """The roof and the contact floors of ``name``; beyond MAX_HISTORY_FLOORS, the roof and the
+    floors whose contacts carried the largest forces (a ten-storey row would draw ten lines)."""
+    force: dict[int, float] = {}
+    for c in ds["contact"].values:
+        for side in ("left", "right"):
+            if ds[f"contact_{side}"].values[c] == name:
+                f = int(ds[f"contact_{side}_floor"].values[c])
+                peak = (
+                    float(ds["peak_contact_force"].values[c]) if "peak_contact_force" in ds else 0.0
+                )
+                force[f] = max(force.get(f, 0.0), peak if math.isfinite(peak) else 0.0)
+    ranked = [f for f in sorted(force, key=lambda f: -force[f]) if f != n]
+    return {n, *ranked[: MAX_HISTORY_FLOORS - 1]}
 
 
 def shear_envelopes(ds: xr.Dataset) -> Figure:

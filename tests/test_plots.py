@@ -142,3 +142,25 @@ def test_amplification_heatmap_diverges_about_one_with_symmetric_limits(study):
     # a force is no ratio: a sequential map
     fig = plots.heatmap(study, "peak_contact_force", "gap", "law")
     assert fig.axes[0].images[0].get_cmap().name == "viridis"
+
+
+def test_displacement_histories_of_a_tall_row_draw_the_roof_and_the_most_struck_floors():
+    # twelve contact floors would be twelve lines: the panel keeps the roof and the floors whose
+    # contacts carried the largest forces, coloured by height
+    from pounding.ground_motion import harmonic
+    from pounding.structure import ShearBuilding
+    from pounding.system import Contact, assemble
+
+    a = ShearBuilding.uniform("A", 12, period=1.2, mass=3e5)
+    b = ShearBuilding.uniform("B", 12, period=0.7, mass=3e5)
+    system = assemble([a, b], [Contact("A", "B", gap=0.01, law="hertz", k=2.75e9)])
+    ds = simulate(system, harmonic(amplitude=3.0, period=1.0, duration=3.0, dt=0.01))
+    fig = plots.displacement_histories(ds)
+    ax = fig.axes[0]
+    drawn = [ln.get_label() for ln in ax.lines if not ln.get_label().startswith("_")]
+    assert len(drawn) == plots.MAX_HISTORY_FLOORS and "floor 12" in drawn
+    force = ds["peak_contact_force"].values
+    floors = ds["contact_left_floor"].values
+    ranked = [int(f) for f in floors[np.argsort(-force)] if f != 12]
+    top = set(ranked[: plots.MAX_HISTORY_FLOORS - 1])
+    assert {f"floor {f}" for f in top} <= set(drawn)
