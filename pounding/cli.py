@@ -635,6 +635,11 @@ def study(
         f"  axes {axes}: {loaded.size} combinations, {plan.n_runs} distinct runs with the "
         f"no-contact baselines; {stored} already stored, {len(plan.todo)} to run on {where}"
     )
+    if plan.damaged:
+        typer.echo(
+            f"  {len(plan.damaged)} stored run(s) were damaged (unreadable, no summary or a "
+            "truncated history file): run again"
+        )
     if plan.todo and scheduler is None:
         _compile_notice()  # here, once: the workers then load the kernels from the cache
     previous = signal.signal(signal.SIGTERM, _raise_interrupt)

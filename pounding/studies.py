@@ -44,6 +44,7 @@ is stored with its error message and does not stop the others.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import copy
 import dataclasses
 import datetime
@@ -56,7 +57,7 @@ import os
 import signal
 import time
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -562,6 +563,8 @@ class StudyPlan:
     tasks: dict[str, dict[str, Any]]
     todo: tuple[str, ...]
     failed_records: dict[str, str]
+    #: stored runs found damaged (unreadable, a null summary, a truncated history file): rerun
+    damaged: tuple[str, ...] = ()
 
     @property
     def n_runs(self) -> int:
@@ -638,12 +641,12 @@ def plan_study(study: Study, store: str | Path, *, retry_failed: bool = False) -
                 "scale": scale,
                 "history_dt": history_dt,
             }
+    need = history_dt is not None
     todo = tuple(
-        k
-        for k in tasks
-        if not _stored_ok(store, k, need_histories=history_dt is not None, retry=retry_failed)
+        k for k in tasks if not _stored_ok(store, k, need_histories=need, retry=retry_failed)
     )
-    return StudyPlan(study, store, keys, base_keys, tasks, todo, bad)
+    damaged = tuple(k for k in todo if _damaged(store, k))
+    return StudyPlan(study, store, keys, base_keys, tasks, todo, bad, damaged)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -750,8 +753,15 @@ def _execute(task: Mapping[str, Any]) -> dict[str, Any]:
     return _result(task, status, error, summary, hist, time.perf_counter() - start)
 
 
+#: Suffix of the store's own temporary files: a cleanup removes these and nothing of the user's.
+_TMP_SUFFIX = ".pounding-store.tmp"
+#: The store's lock file (holds the PID of the study writing into it).
+_LOCK_NAME = ".pounding-store.lock"
+_HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
 def _atomic_write(path: Path, write: Callable[[Path], None]) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp = path.with_name(f".{path.name}.{os.getpid()}{_TMP_SUFFIX}")
     write(tmp)
     os.replace(tmp, path)
 
@@ -766,11 +776,32 @@ def _read_record(store: Path, key: str) -> dict[str, Any] | None:
 
 def _stored_ok(store: Path, key: str, *, need_histories: bool, retry: bool) -> bool:
     rec = _read_record(store, key)
-    if rec is None:
+    if rec is None or not isinstance(rec, dict):
         return False
     if rec.get("status") != "ok":
         return not retry
+    if not isinstance(rec.get("summary"), dict):
+        return False  # "summary": null made every resume crash
+    if rec.get("has_histories") and not _history_intact(store / f"{key}.nc"):
+        return False
     return not need_histories or bool(rec.get("has_histories"))
+
+
+def _history_intact(path: Path) -> bool:
+    """The history file exists and starts as an HDF5 file (a truncated copy breaks the report)."""
+    try:
+        with path.open("rb") as fh:
+            return fh.read(8) == _HDF5_SIGNATURE and path.stat().st_size > 512
+    except OSError:
+        return False
+
+
+def _damaged(store: Path, key: str) -> bool:
+    """A run file exists but cannot be used (rerun, counted apart from the runs never made)."""
+    return (store / f"{key}.json").exists() and (
+        _read_record(store, key) is None
+        or not _stored_ok(store, key, need_histories=False, retry=False)
+    )
 
 
 def _write_run(store: Path, result: Mapping[str, Any]) -> None:
@@ -979,24 +1010,53 @@ def run_study(
         if progress:
             progress(done, len(todo), failed)
 
+    n_jobs = max(1, int(jobs or _cores()))
     if todo:
         plan.store.mkdir(parents=True, exist_ok=True)
-        for stale in plan.store.glob(".*.tmp"):  # left by a killed run
-            stale.unlink(missing_ok=True)
-    n_jobs = max(1, int(jobs or _cores()))
-    if not todo:
-        pass
-    elif scheduler is not None:
-        _run_dask(todo, scheduler, on_done)
-    elif n_jobs == 1 or len(todo) == 1:
-        for task in todo:
-            on_done(_execute(task))
-    else:
-        # the first run goes in this process: it compiles the kernels once and writes numba's
-        # disk cache, which the workers then load instead of each compiling them again
-        on_done(_execute(todo[0]))
-        _run_processes(todo[1:], n_jobs, on_done)
+        with _store_lock(plan.store):
+            for stale in plan.store.glob(f".*{_TMP_SUFFIX}"):  # left by a killed run
+                stale.unlink(missing_ok=True)
+            if scheduler is not None:
+                _run_dask(todo, scheduler, on_done)
+            elif n_jobs == 1 or len(todo) == 1:
+                for task in todo:
+                    on_done(_execute(task))
+            else:
+                # the first run goes in this process: it compiles the kernels once and writes
+                # numba's disk cache, which the workers then load instead of compiling again
+                on_done(_execute(todo[0]))
+                _run_processes(todo[1:], n_jobs, on_done)
     return assemble(plan)
+
+
+@contextlib.contextmanager
+def _store_lock(store: Path) -> Iterator[None]:
+    """Hold the store for this process: a second study into the same store stops at once with
+    the PID of the first (two writers deleted each other's temporary files and crashed)."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX: no lock
+        yield
+        return
+    path = store / _LOCK_NAME
+    with open(path, "a+") as fh:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            fh.seek(0)
+            pid = fh.read().strip() or "?"
+            raise StudyError(
+                f"store {store} in use by PID {pid} (another pounding study writing into it); "
+                "wait for it to finish or give another --store"
+            ) from None
+        fh.seek(0)
+        fh.truncate()
+        fh.write(str(os.getpid()))
+        fh.flush()
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 # --------------------------------------------------------------------------------------------------

@@ -416,3 +416,56 @@ def test_k_axis_refuses_laws_with_different_units():
         _study(law=["hertz"], law_params={"linear": {"k": 1e8}})
     with pytest.raises(StudyError, match="unknown key.*kk"):
         _study(law=["linear"], law_params={"linear": {"kk": 1e8}})
+
+
+# --- the store: damaged runs, its own temporary files, one study at a time ---
+
+
+def test_damaged_stored_runs_are_found_rerun_and_counted(tmp_path):
+    # A run file with "summary": null made every resume crash; a truncated history file broke the
+    # report. Both are found on resume, rerun, and the CLI says how many.
+    case = tmp_path / "study.toml"
+    case.write_text(
+        (ROOT / "examples" / "two_sdof.toml").read_text()
+        + '\n[study]\nlaw = ["none", "hertz"]\ngap = [0.005, 0.02]\nkeep_histories = true\n'
+    )
+    out = tmp_path / "s.nc"
+    assert runner.invoke(app, ["study", str(case), "-o", str(out), "--jobs", "1"]).exit_code == 0
+    store = default_store(out)
+    runs = sorted(store.glob("*.json"))
+    rec = json.loads(runs[0].read_text())
+    rec["summary"] = None
+    runs[0].write_text(json.dumps(rec))
+    history = next(p for p in sorted(store.glob("*.nc")) if p.stem != runs[0].stem)
+    history.write_bytes(history.read_bytes()[:100])
+    res = runner.invoke(app, ["study", str(case), "-o", str(out), "--jobs", "1"])
+    assert res.exit_code == 0, res.output
+    assert "2 stored run(s) were damaged" in res.output and "2 to run" in res.output
+    plan = plan_study(load_study(case), store)
+    assert plan.todo == () and plan.damaged == ()
+
+
+def test_the_store_deletes_only_its_own_temporary_files(tmp_path):
+    store = tmp_path / "runs"
+    store.mkdir()
+    mine = store / ".x.json.123.pounding-store.tmp"
+    users = store / ".notes.tmp"
+    mine.write_text("left by a killed run")
+    users.write_text("the user's")
+    run_study(_study(law=["hertz"], gap=[0.01]), store, jobs=1)
+    assert not mine.exists() and users.read_text() == "the user's"
+
+
+def test_a_second_study_into_a_busy_store_stops_at_once_naming_the_pid(tmp_path):
+    import fcntl
+
+    store = tmp_path / "runs"
+    store.mkdir()
+    with open(store / ".pounding-store.lock", "a+") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        fh.write("4242")
+        fh.flush()
+        with pytest.raises(StudyError, match="store .* in use by PID 4242"):
+            run_study(_study(law=["hertz"], gap=[0.01]), store, jobs=1)
+    assert not list(store.glob("*.json"))  # nothing ran
+    run_study(_study(law=["hertz"], gap=[0.01]), store, jobs=1)  # free again
