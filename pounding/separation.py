@@ -1053,9 +1053,12 @@ def _grounds_from_options(case: Case, refs: Sequence[str]) -> list[GroundMotion]
     if not refs:
         return [case.ground_motion]
     base = case.path.parent if case.path is not None else None
+    # the case's [ground_motion] scale applies to the suite too (a design level set once)
+    scale = (case.data.get("ground_motion") or {}).get("scale")
     out: list[GroundMotion] = []
     for ref in refs:
-        out.extend(resolve(ref, base_dir=base))
+        found = resolve(ref, base_dir=base)
+        out.extend(found if scale is None else [gm.scaled(float(scale)) for gm in found])
     return out
 
 

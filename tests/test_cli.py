@@ -6,6 +6,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -151,7 +152,6 @@ def test_run_isolated_example_prints_base_displacement(tmp_path):
 def test_separation_says_whether_the_cases_gap_suffices(tmp_path):
     # One verdict line per interface: the case's gap against the median exact required gap of the
     # records, with the count of records that pound; estimates that do not apply print n/a.
-    import numpy as np
     from test_separation import CASE_TOML
 
     case = tmp_path / "case.toml"
@@ -173,3 +173,23 @@ def test_separation_says_whether_the_cases_gap_suffices(tmp_path):
     relation = "<" if 0.05 < required else ">="
     assert f"gap 0.050 m {relation} required {required:.3f} m (exact, median of 3 records)" in line
     assert f"{hits} of 3 records" in line
+
+
+def test_separation_records_keep_the_cases_scale(tmp_path):
+    # [ground_motion] scale = 2 applies to the --records suite too; the buildings are linear without
+    # contact, so the exact required gaps double (superposition)
+    from test_separation import CASE_TOML
+
+    ref = "synthetic:kanai-tajimi?seed=1&pga=0.3&duration=5"
+    gaps = []
+    for scaled in (False, True):
+        text = CASE_TOML
+        if scaled:
+            text = text.replace("[ground_motion]", "[ground_motion]\nscale = 2.0", 1)
+        case = tmp_path / f"case{int(scaled)}.toml"
+        case.write_text(text)
+        out = tmp_path / f"sep{int(scaled)}.nc"
+        res = runner.invoke(app, ["separation", str(case), "--records", ref, "-o", str(out)])
+        assert res.exit_code == 0, res.output
+        gaps.append(open_result(out)["required_gap"].sel(estimate="time_history").values)
+    np.testing.assert_allclose(gaps[1], 2.0 * gaps[0], rtol=1e-9)
