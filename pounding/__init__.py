@@ -42,6 +42,8 @@ _LAZY = {
     "ShearBuilding": "pounding.structure",
     "Study": "pounding.studies",
     "StudyError": "pounding.studies",
+    "StudyInterrupted": "pounding.studies",
+    "stop_on_signals": "pounding.studies",
     "load_study": "pounding.studies",
     "run_study": "pounding.studies",
     "Contact": "pounding.system",
@@ -67,7 +69,14 @@ if TYPE_CHECKING:  # for type checkers and IDEs (not report and separation: impo
     from pounding.results import open_result, save
     from pounding.simulate import AnalysisOptions, simulate
     from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
-    from pounding.studies import Study, StudyError, load_study, run_study
+    from pounding.studies import (
+        Study,
+        StudyError,
+        StudyInterrupted,
+        load_study,
+        run_study,
+        stop_on_signals,
+    )
     from pounding.system import Contact, PoundingSystem, assemble
 
 
@@ -119,6 +128,7 @@ __all__ = [
     "ShearBuilding",
     "Study",
     "StudyError",
+    "StudyInterrupted",
     "__version__",
     "assemble",
     "contact_parameters",
@@ -135,5 +145,6 @@ __all__ = [
     "separation_analysis",
     "simulate",
     "sine_pulse",
+    "stop_on_signals",
     "write_report",
 ]

@@ -591,10 +591,6 @@ class _ProgressBar:
             typer.echo(line, err=True)
 
 
-def _raise_interrupt(signum: int, frame: Any) -> None:
-    raise KeyboardInterrupt
-
-
 @app.command()
 @user_errors
 def study(
@@ -619,7 +615,13 @@ def study(
     import time
 
     from pounding.results import save
-    from pounding.studies import default_store, load_study, plan_study, run_study
+    from pounding.studies import (
+        default_store,
+        load_study,
+        plan_study,
+        run_study,
+        stop_on_signals,
+    )
 
     if jobs is not None and jobs < 1:
         raise UserError(f"--jobs = {jobs}; allowed: an integer >= 1")
@@ -642,18 +644,17 @@ def study(
         )
     if plan.todo and scheduler is None:
         _compile_notice()  # here, once: the workers then load the kernels from the cache
-    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
     try:
-        ds = run_study(plan, jobs=jobs, scheduler=scheduler, progress=_ProgressBar())
-    except KeyboardInterrupt:
+        with stop_on_signals():
+            ds = run_study(plan, jobs=jobs, scheduler=scheduler, progress=_ProgressBar())
+    except KeyboardInterrupt as exc:
         typer.echo(
             f"\ninterrupted: finished runs are stored in {plan.store}; run the same command "
             "again to resume",
             err=True,
         )
-        raise typer.Exit(code=130) from None
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+        # the shell's convention: 130 after SIGINT, 143 after SIGTERM
+        raise typer.Exit(code=128 + getattr(exc, "signum", signal.SIGINT)) from None
     save(ds, output)
     failed = int((ds["run_status"] == "failed").sum())
     if "drift_amplification" in ds:
@@ -1035,8 +1036,11 @@ def main() -> None:
         typer.echo("interrupted", err=True)
         _exit_now(130)
     except SystemExit as exc:
-        if exc.code == 130:  # an interrupted study: finished runs are stored, nothing to wait for
-            _exit_now(130)
+        if exc.code in (
+            130,
+            143,
+        ):  # an interrupted study: finished runs are stored, nothing to wait for
+            _exit_now(exc.code)
         if one_run and isinstance(exc.code, int | None):
             # the result is written and closed, the summary printed: skip the interpreter's
             # teardown of numba, llvmlite and numpy's modules, ~0.3 s of a ~1 s run

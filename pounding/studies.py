@@ -810,6 +810,11 @@ def _write_run(store: Path, result: Mapping[str, Any]) -> None:
     ``KEY.json`` holds the status, the error and the summary; ``KEY.nc`` the kept time histories,
     written first, so a run counts as stored only once both are complete.
     """
+    with _stop_deferred():
+        _write_run_files(store, result)
+
+
+def _write_run_files(store: Path, result: Mapping[str, Any]) -> None:
     store.mkdir(parents=True, exist_ok=True)
     rec = result["record"]
     if result["histories"] is not None:
@@ -866,9 +871,88 @@ def _cores() -> int:
     return os.cpu_count() or 1
 
 
+class StudyInterrupted(KeyboardInterrupt):
+    """A study stopped by SIGINT or SIGTERM; the runs finished before it are stored."""
+
+    def __init__(self, signum: int = signal.SIGINT) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+# The signal that asked the running study to stop. The handler also raises, but a KeyboardInterrupt
+# raised while a callback runs can be swallowed (5 of 22 SIGINT trials ran on to exit 0): the loops
+# check this after every run and before every pool restart, so a stop request is never lost.
+# "defer" is set while a run is being stored: the stop then waits for the check that follows.
+_STOP: dict[str, int] = {}
+
+
+@contextlib.contextmanager
+def _stop_deferred() -> Iterator[None]:
+    # a stop between a run's file and its log line left the two disagreeing (1 trial in 72)
+    _STOP["defer"] = 1
+    try:
+        yield
+    finally:
+        del _STOP["defer"]
+
+
+def _check_stop() -> None:
+    if "signum" in _STOP:
+        raise StudyInterrupted(_STOP["signum"])
+
+
+@contextlib.contextmanager
+def stop_on_signals() -> Iterator[None]:
+    """Make SIGINT and SIGTERM stop a study run inside this block with :class:`StudyInterrupted`
+    (its ``signum`` says which; exit status 128 + signum by convention), however the signal meets
+    the loop. Only the main thread can install signal handlers: elsewhere this does nothing."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        if "signum" not in _STOP:  # a second signal must not break off stopping the workers
+            _STOP["signum"] = signum
+            if "defer" not in _STOP:  # else raised by the check that follows every stored run
+                raise StudyInterrupted(signum)
+
+    _STOP.pop("signum", None)
+    previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+        _STOP.pop("signum", None)
+
+
+def _die_with_parent() -> None:
+    """End this worker when the study process dies, even by SIGKILL (which no handler sees).
+
+    Neither the parent PID nor Linux's parent-death signal works here: a forkserver worker's parent
+    is the fork server, and the workers hold the fork server's liveness pipe open, so after the study
+    is killed each keeps the other alive, all of them, for good. multiprocessing gives every child a
+    sentinel of the process that started it; it becomes ready when that process is gone."""
+    import threading
+    from multiprocessing.connection import wait
+
+    parent = multiprocessing.parent_process()
+    if parent is None or parent.sentinel is None:  # pragma: no cover - not a multiprocessing child
+        return
+
+    def watch() -> None:
+        wait([parent.sentinel])
+        os._exit(1)
+
+    threading.Thread(target=watch, name="pounding-parent-watch", daemon=True).start()
+
+
 def _worker_init() -> None:
     # Ctrl-C reaches the whole process group; the parent decides, workers keep quiet.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent()
 
 
 def _mp_context() -> multiprocessing.context.BaseContext:
@@ -908,12 +992,16 @@ def _run_processes(tasks: list[dict], jobs: int, on_done: Callable[[dict], None]
                     continue
                 on_done(result)
                 finished.add(result["record"]["key"])
+            _check_stop()
         except BaseException:
             _stop_workers(pool)
             raise
         pool.shutdown(wait=True)
         pending = [t for t in pending if t["key"] not in finished]
         if pending:
+            # a SIGTERM sent to the whole process group also kills the workers: that is a stop,
+            # not a crash to recover from by starting a new pool
+            _check_stop()
             restarts += 1
             if restarts > _MAX_POOL_RESTARTS:
                 raise RuntimeError(
@@ -983,7 +1071,8 @@ def run_study(
     -------
     xarray.Dataset
         See :func:`assemble`. A KeyboardInterrupt stops the workers and propagates; finished runs
-        are stored and a rerun resumes.
+        are stored and a rerun resumes. Inside :func:`stop_on_signals`, SIGINT and SIGTERM raise
+        :class:`StudyInterrupted` the same way, checked after every run.
 
     Notes
     -----
@@ -1009,6 +1098,7 @@ def run_study(
         failed += result["record"]["status"] != "ok"
         if progress:
             progress(done, len(todo), failed)
+        _check_stop()  # stored first: a stop request never loses a finished run
 
     n_jobs = max(1, int(jobs or _cores()))
     if todo:
@@ -1020,12 +1110,14 @@ def run_study(
                 _run_dask(todo, scheduler, on_done)
             elif n_jobs == 1 or len(todo) == 1:
                 for task in todo:
+                    _check_stop()
                     on_done(_execute(task))
             else:
                 # the first run goes in this process: it compiles the kernels once and writes
                 # numba's disk cache, which the workers then load instead of compiling again
                 on_done(_execute(todo[0]))
                 _run_processes(todo[1:], n_jobs, on_done)
+    _check_stop()
     return assemble(plan)
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -22,12 +23,14 @@ from pounding.results import open_result, save
 from pounding.simulate import simulate
 from pounding.studies import (
     StudyError,
+    StudyInterrupted,
     default_store,
     histories,
     load_study,
     plan_study,
     run_log,
     run_study,
+    stop_on_signals,
     study_from_dict,
 )
 from pounding.units import G
@@ -318,7 +321,7 @@ def test_interrupted_study_resumes_without_running_anything_twice(slow, tmp_path
     _, err = proc.communicate(timeout=5)
     done = run_log(store)
     total = len(plan_study(load_study(case), store).tasks)
-    assert proc.returncode == 130, err.decode()
+    assert proc.returncode == 128 + sig, err.decode()
     assert "interrupted" in err.decode() and "Traceback" not in err.decode()
     assert 3 <= len(done) < total
     assert not out.exists()
@@ -327,6 +330,141 @@ def test_interrupted_study_resumes_without_running_anything_twice(slow, tmp_path
     keys = [e["key"] for e in run_log(store)]
     assert len(keys) == len(set(keys)) == total
     xr.testing.assert_identical(_strip(resumed), _strip(fresh))
+
+
+def _start_study(case: Path, out: Path, jobs: str) -> subprocess.Popen:
+    cmd = [sys.executable, "-c", _CLI, "study", str(case), "-o", str(out), "--jobs", jobs]
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+
+def _wait_for_runs(proc: subprocess.Popen, store: Path, n: int) -> None:
+    deadline = time.monotonic() + 120
+    while len(run_log(store)) < n and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.005)
+    assert proc.poll() is None, "the study ended before the signal"
+
+
+# (signal, jobs, runs stored before it): the first run goes in the main process, so 1 and 2 stored
+# hit the start of the worker pool. The failures were intermittent: POUNDING_SIGNAL_TRIALS=20 repeats
+# each trial 20 times (2 in the suite).
+_REPEATS = int(os.environ.get("POUNDING_SIGNAL_TRIALS", "2"))
+_SIGNAL_TRIALS = [
+    (sig, jobs, after, rep)
+    for sig in (signal.SIGINT, signal.SIGTERM)
+    for jobs, after in (("1", 1), ("2", 1), ("2", 2), ("2", 6))
+    for rep in range(_REPEATS)
+]
+
+
+@pytest.mark.parametrize(("sig", "jobs", "after", "rep"), _SIGNAL_TRIALS)
+def test_sigint_and_sigterm_stop_a_study_within_5_s_at_any_point(
+    slow, tmp_path, sig, jobs, after, rep
+):
+    case, _ = slow
+    out = tmp_path / "out.nc"
+    store = default_store(out)
+    proc = _start_study(case, out, jobs)
+    _wait_for_runs(proc, store, after)
+    proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=5)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail(
+            f"{signal.Signals(sig).name} after {after} run(s), jobs {jobs}: still running 5 s later"
+        )
+    assert proc.returncode == 128 + sig, err.decode()
+    assert "Traceback" not in err.decode()
+    assert not out.exists()
+    # every stored run is whole: a resume finds nothing damaged
+    plan = plan_study(load_study(case), store)
+    assert not plan.damaged
+    assert len(plan.tasks) - len(plan.todo) == len(run_log(store)) >= after
+
+
+def _descendants(pid: int) -> set[int]:
+    children: dict[int, list[int]] = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        children.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    found, todo = set(), [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.add(child)
+            todo.append(child)
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads the process table in /proc")
+@pytest.mark.parametrize("rep", range(_REPEATS))
+def test_workers_die_when_the_study_process_is_killed(slow, tmp_path, rep):
+    case, _ = slow
+    out = tmp_path / "out.nc"
+    proc = _start_study(case, out, "2")
+    _wait_for_runs(proc, default_store(out), 3)  # the pool is running
+    workers = _descendants(proc.pid)
+    assert workers, "no worker processes found"
+    proc.kill()  # SIGKILL: no handler runs in the study process
+    proc.wait()
+    deadline = time.monotonic() + 5
+    while any(_alive(p) for p in workers) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not [p for p in workers if _alive(p)], "worker processes outlived the killed study"
+
+
+def test_a_stop_request_is_not_lost_when_a_callback_swallows_the_interrupt(tmp_path):
+    """The signal handler's KeyboardInterrupt can land in code that swallows it (a callback, a
+    library's cleanup): the study must stop at the next run all the same, with what ran stored."""
+    study = _study(gap=[0.002, 0.005, 0.01, 0.02])
+    calls = []
+
+    def progress(done: int, total: int, failed: int) -> None:
+        calls.append(done)
+        if done == 2:
+            try:
+                signal.raise_signal(signal.SIGTERM)
+            except KeyboardInterrupt:
+                pass  # swallowed, as a careless callback would
+
+    with stop_on_signals(), pytest.raises(StudyInterrupted) as info:
+        run_study(study, tmp_path / "runs", jobs=1, progress=progress)
+    assert info.value.signum == signal.SIGTERM
+    assert calls == [0, 1, 2] and len(run_log(tmp_path / "runs")) == 2
+    # outside the block the signals are the interpreter's own again
+    assert signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
+    resumed = run_study(study, tmp_path / "runs", jobs=1)
+    assert len(run_log(tmp_path / "runs")) == len(plan_study(study, tmp_path / "runs").tasks)
+    assert resumed.sizes["gap"] == 4
+
+
+def test_a_signal_while_a_run_is_stored_waits_until_it_is_stored(tmp_path, monkeypatch):
+    # a stop between a run's file and its log line once left them disagreeing (1 trial in 72)
+    import pounding.studies as studies
+
+    write = studies._write_run_files
+
+    def write_interrupted(store, result):
+        signal.raise_signal(signal.SIGINT)
+        write(store, result)
+
+    monkeypatch.setattr(studies, "_write_run_files", write_interrupted)
+    study = _study(gap=[0.002, 0.005])
+    with stop_on_signals(), pytest.raises(StudyInterrupted) as info:
+        run_study(study, tmp_path / "runs", jobs=1)
+    assert info.value.signum == signal.SIGINT
+    plan = plan_study(study, tmp_path / "runs")
+    assert len(run_log(tmp_path / "runs")) == len(plan.tasks) - len(plan.todo) == 1
 
 
 runner = CliRunner()
