@@ -493,3 +493,77 @@ def test_analysis_report_flags_the_restitution_of_the_law_as_run(calibration, fl
     model = next(s for s in build_report(ds).sections if s.title == "Model")
     table = next(b for b in model.blocks if hasattr(b, "header") and "effective e" in b.header)
     assert ("Warning: lankarani_nikravesh" in table.caption) is flagged
+    # and the executive summary, the first section, carries it with the run's other warnings
+    executive = build_report(ds).sections[0]
+    notes = [b for b in executive.blocks if isinstance(b, str)]
+    assert any(n.startswith("Warning: lankarani_nikravesh") for n in notes) is flagged
+
+
+def test_executive_summary_flags_drift_beyond_the_limit():
+    # examples/two_sdof.toml: 6.7 % drift from elastic stories (the default limit is 2 %)
+    import tomllib
+
+    data = tomllib.loads((ROOT / "examples" / "two_sdof.toml").read_text())
+    notes = [b for b in build_report(simulate(case_from_dict(data))).sections[0].blocks]
+    assert any(isinstance(n, str) and "building B: peak drift ratio" in n for n in notes)
+    data["output"] = {"drift_limit": 0.5}
+    notes = build_report(simulate(case_from_dict(data))).sections[0].blocks
+    assert not any(isinstance(n, str) and "drift" in n for n in notes)
+
+
+def _report_words(report) -> set[str]:
+    """Every word of a report's text: title, header lines, section titles, paragraphs, table
+    headers, cells and captions, figure captions."""
+    texts = [report.title, *(f"{k} {v}" for k, v in report.meta)]
+    for sec in report.sections:
+        texts.append(sec.title)
+        for b in sec.blocks:
+            if isinstance(b, str):
+                texts.append(b)
+            elif hasattr(b, "header"):
+                texts += [*b.header, *(c for row in b.rows for c in row), b.caption]
+            else:
+                texts.append(b.caption)
+    return _words(" ".join(texts))
+
+
+def _words(text: str) -> set[str]:
+    return set(re.findall(r"[A-Za-z0-9]+", text))
+
+
+@needs_poppler
+@pytest.mark.parametrize("which", ["analysis_report", "study_report", "separation_report"])
+def test_html_and_pdf_of_a_report_carry_the_same_content(request, which):
+    import html as html_lib
+
+    ds, paths = request.getfixturevalue(which)
+    words = _report_words(build_report(ds))
+    page = html_lib.unescape(re.sub(r"<[^>]+>", " ", _html(paths)))
+    pdf = subprocess.run(
+        [PDFTOTEXT, "-layout", str(_pdf(paths)), "-"], capture_output=True, text=True, check=True
+    ).stdout
+    assert len(words) > 100
+    assert words - _words(page) == set()
+    assert words - _words(pdf) == set()
+
+
+@needs_poppler
+def test_pdf_figures_sit_with_their_captions_two_to_a_page(analysis_report):
+    ds, paths = analysis_report
+    pdf = str(_pdf(paths))
+    images = subprocess.run(["pdfimages", "-list", pdf], capture_output=True, text=True).stdout
+    per_page: dict[int, int] = {}
+    for line in images.splitlines()[2:]:
+        per_page[int(line.split()[0])] = per_page.get(int(line.split()[0]), 0) + 1
+    n_figures = sum(1 for s in build_report(ds).sections for b in s.blocks if hasattr(b, "figure"))
+    assert sum(per_page.values()) == n_figures
+    assert max(per_page.values()) <= 2 and list(per_page.values()).count(2) >= 2
+    for page, count in per_page.items():
+        text = subprocess.run(
+            [PDFTOTEXT, "-f", str(page), "-l", str(page), pdf, "-"],
+            capture_output=True,
+            text=True,
+        ).stdout
+        # each figure's caption is on its page, at full resolution
+        assert len(re.findall(r"Figure \d+\.\d+:", text)) == count, page
+    assert re.search(r"\s(1[5-9]\d|2\d\d)\s+(1[5-9]\d|2\d\d)\s", images)  # x-ppi, y-ppi ~200

@@ -13,7 +13,7 @@ import xarray as xr
 from pounding import plots
 from pounding._version import __version__
 from pounding.report.document import _MAX_ROWS, NOMINAL_V0, Plot, Report, Section, Table, _g
-from pounding.report.sections import _ground_motion_section, _model_section
+from pounding.report.sections import _ground_motion_section, _model_section, law_warnings
 
 
 def _analysis_law_rows(ds: xr.Dataset) -> list[dict[str, Any]]:
@@ -230,10 +230,11 @@ def _fmt(value: float, digits: int) -> str:
     return f"{value:.0f}" if digits == 0 and math.isfinite(value) else _g(value, digits or 4)
 
 
-def _executive_section(ds: xr.Dataset) -> Section:
+def _executive_section(ds: xr.Dataset, law_rows: list[dict[str, Any]]) -> Section:
     """The numbers an engineer decides on first: per building the peak drift ratio, absolute floor
     acceleration and base shear, with contact and (when the run has its no-contact baseline)
-    without, their ratio and the story shear the impacts add; the largest impact force."""
+    without, their ratio and the story shear the impacts add; the largest impact force; then the
+    run's warnings (drift beyond the limit, a law whose effective e misses its nominal e)."""
     sec = Section("Executive summary")
     s = ds.pounding.summary()
     baseline = all("no_contact" in b for b in s["buildings"].values())
@@ -284,6 +285,8 @@ def _executive_section(ds: xr.Dataset) -> Section:
             f"{worst['left']}–{worst['right']} ({worst['law']}, gap {_g(worst['gap'] * 1e3, 4)} mm)."
         )
     sec.blocks.append(Table(header, rows, note))
+    for warning in [*s["warnings"], *law_warnings(law_rows)]:
+        sec.blocks.append(warning if warning.startswith("Warning") else f"Warning: {warning}")
     return sec
 
 
@@ -321,13 +324,14 @@ def _isolation_section(ds: xr.Dataset) -> Section | None:
 def analysis_report(ds: xr.Dataset, store: Path | None = None) -> Report:
     """The report of an analysis (from :func:`pounding.simulate`); ``store`` is not used."""
     contacts = _contacts_table(ds) if ds.sizes.get("contact", 0) else None
+    law_rows = _analysis_law_rows(ds) if contacts else []
     model = _model_section(
         ds,
-        _analysis_law_rows(ds) if contacts else [],
+        law_rows,
         [Table(contacts.header[:5], [r[:5] for r in contacts.rows])] if contacts else [],
     )
     sections = [
-        _executive_section(ds),
+        _executive_section(ds, law_rows),
         model,
         _ground_motion_section(ds, study=False),
         _results_section(ds, contacts),

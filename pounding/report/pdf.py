@@ -1,8 +1,10 @@
-"""A report as a PDF with the HTML page's content: text and tables laid out on A4 pages with
-matplotlib's ``PdfPages``, then one page per figure."""
+"""A report as a PDF with the HTML page's content: text and ruled tables laid out on A4 pages with
+matplotlib's ``PdfPages``; each section's figures follow it, two to a page where they fit, each with
+its caption beneath it."""
 
 from __future__ import annotations
 
+import io
 import textwrap
 from collections.abc import Sequence
 from pathlib import Path
@@ -11,6 +13,8 @@ from typing import Any
 import matplotlib
 from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
+from matplotlib.image import imread
+from matplotlib.lines import Line2D
 
 from pounding._version import __version__
 from pounding.plots import plain_text
@@ -89,9 +93,31 @@ class _PageWriter:
                 ]
                 self.line("  ".join(parts).rstrip(), size, family="monospace", **kw)
 
-        emit(table.header, weight="bold", gap=0.05)
+        width = 0.6 * size / 72 * total  # inches: monospace advance ~0.6 em
+
+        def rule(lw: float) -> None:
+            if self.fig is None or self.y - 0.06 < self.MARGIN:
+                self._page()
+            y = (self.y - 0.045) / self.H
+            x0 = self.MARGIN / self.W
+            self.fig.add_artist(
+                Line2D(
+                    [x0, x0 + width / self.W],
+                    [y, y],
+                    lw=lw,
+                    color="black",
+                    transform=self.fig.transFigure,
+                )
+            )
+            self.y -= 0.06
+
+        self.y -= 0.06
+        rule(0.8)  # top, mid and bottom rules, as in a printed table
+        emit(table.header, weight="bold")
+        rule(0.5)
         for row in table.rows:
             emit(row)
+        rule(0.8)
         if table.caption:
             for ln in textwrap.wrap(table.caption, 120):
                 self.line(ln, 7.5)
@@ -124,16 +150,47 @@ def render_pdf(report: Report, path: str | Path) -> Path:
                     w.table(b)
                 else:
                     figures.append(b)
-                    for ln in textwrap.wrap(f"Figure {n}.{len(figures)}: {b.caption}", 115):
-                        w.line(ln, 8.5)
             if figures:  # figures take pages of their own; text-only sections share pages
                 w.flush()
-            for k, p in enumerate(figures, 1):
-                fig = p.figure
-                fig.suptitle(
-                    plain_text(f"{n}. {sec.title} - figure {n}.{k}"), fontsize=9, x=0.02, ha="left"
-                )
-                pdf.savefig(fig)
-                fig.suptitle("")
+                _figure_pages(pdf, figures, f"{n}. {sec.title}", n)
         w.flush()
     return path
+
+
+#: Resolution of the figures placed on the PDF's pages [dots per inch].
+FIGURE_DPI = 200
+
+
+def _figure_pages(pdf: PdfPages, figures: Sequence[Plot], section: str, n: int) -> None:
+    """The figures of a section, each with its caption beneath it, as many to an A4 page as fit
+    (two of the usual height); a figure taller than the page is scaled down to fit."""
+    W, H, M = _PageWriter.W, _PageWriter.H, _PageWriter.MARGIN
+    usable_w, usable_h = W - 2 * M, H - 2 * M - 0.3
+    page: Figure | None = None
+    y = 0.0
+    for k, p in enumerate(figures, 1):
+        buf = io.BytesIO()
+        p.figure.savefig(buf, format="png", dpi=FIGURE_DPI)
+        buf.seek(0)
+        image = imread(buf)
+        fw, fh = p.figure.get_size_inches()
+        scale = min(1.0, usable_w / fw, (usable_h - 0.6) / fh)
+        w, h = fw * scale, fh * scale
+        caption = textwrap.wrap(plain_text(f"Figure {n}.{k}: {p.caption}"), 115)
+        need = h + 0.2 + 8.5 * 1.45 / 72 * len(caption) + 0.25
+        if page is None or y - need < M:
+            if page is not None:
+                pdf.savefig(page)
+            page = Figure(figsize=(W, H))
+            page.text(M / W, (H - M) / H, plain_text(section), fontsize=10, weight="bold", va="top")
+            y = H - M - 0.3
+        ax = page.add_axes(((W - w) / 2 / W, (y - h) / H, w / W, h / H))
+        ax.imshow(image, interpolation="none")  # embedded at FIGURE_DPI, not resampled
+        ax.set_axis_off()
+        y -= h + 0.15
+        for ln in caption:
+            y -= 8.5 * 1.45 / 72
+            page.text(M / W, y / H, ln, fontsize=8.5, va="baseline")
+        y -= 0.25
+    if page is not None:
+        pdf.savefig(page)

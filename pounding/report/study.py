@@ -28,7 +28,7 @@ from pounding.report.document import (
     _median,
     _value_text,
 )
-from pounding.report.sections import _ground_motion_section, _model_section
+from pounding.report.sections import _ground_motion_section, _model_section, law_warnings
 
 
 def _dispersion(values: np.ndarray) -> float:
@@ -290,7 +290,7 @@ def _trio(values: np.ndarray) -> str:
     return " / ".join(f"{v:.2f}" if np.isfinite(v) else "–" for v in values)
 
 
-def _executive_section(ds: xr.Dataset) -> Section | None:
+def _executive_section(ds: xr.Dataset, law_rows: list[dict[str, Any]]) -> Section | None:
     """Record-to-record statistics of the amplifications per combination of the other axes and
     building (``ds.pounding.statistics()``), led by the largest median drift amplification."""
     if "record" not in ds.dims or "drift_amplification" not in ds:
@@ -354,6 +354,7 @@ def _executive_section(ds: xr.Dataset) -> Section | None:
         cap += f" First {2 * _MAX_ROWS} of {len(rows)} rows; all in ds.pounding.statistics()."
         rows = rows[: 2 * _MAX_ROWS]
     sec.blocks.append(Table(header, rows, cap))
+    sec.blocks.extend(law_warnings(law_rows))
     return sec
 
 
@@ -363,11 +364,12 @@ def study_report(ds: xr.Dataset, store: Path | None = None) -> Report:
     if store is None and str(ds.attrs.get("store", "")):
         store = Path(ds.attrs["store"])
     axes = _axes(ds)
-    executive = _executive_section(ds)
+    law_rows = _study_law_rows(ds)
+    executive = _executive_section(ds, law_rows)
     sections = [
         *([executive] if executive else []),
         _sweep_section(ds, axes),
-        _model_section(ds, _study_law_rows(ds)),
+        _model_section(ds, law_rows),
         _ground_motion_section(ds, study=True),
         _comparison_section(ds),
     ]
