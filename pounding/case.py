@@ -335,6 +335,11 @@ def _ground_motion(spec: Mapping[str, Any], base_dir: Path | None) -> GroundMoti
     where = "ground_motion"
     if not isinstance(spec, Mapping):
         raise CaseError(f"{where} must be a table ([ground_motion])")
+    if isinstance(spec.get("units"), str):
+        try:
+            acceleration_factor(spec["units"])
+        except ValueError as exc:  # the message names the unit and the allowed ones, not the key
+            raise CaseError(f"{where}.units = {spec['units']!r}: {exc}") from None
     if "type" in spec:
         if spec["type"] not in ANALYTIC_MOTIONS:
             raise CaseError(

@@ -9,7 +9,6 @@ and table names such as ``[analysis]`` are shown as written.
 
 from __future__ import annotations
 
-import math
 import sys
 from collections.abc import Callable
 from functools import wraps
@@ -392,7 +391,7 @@ def _verdict(name: str, exact: list[float], gap: float | None) -> str:
     )
 
 
-def _print_separation(ds: Any, path: str | None, gaps: dict[str, float] | None = None) -> None:
+def _print_separation(ds: Any, path: str | None) -> None:
     import math
 
     from pounding.separation import separation_summary
@@ -438,7 +437,8 @@ def _print_separation(ds: Any, path: str | None, gaps: dict[str, float] | None =
             else:
                 values = f"{_na(row['median'])} {_na(row['p84'])} {_na(row['max'])}"
             typer.echo(f"    {row['label']:<52s} {values}   {row['basis']}")
-        typer.echo(_verdict(f["name"], f["exact_gaps"], (gaps or {}).get(f["name"])))
+        gap = float(ds["case_gap"].sel(interface=f["name"])) if "case_gap" in ds else math.nan
+        typer.echo(_verdict(f["name"], f["exact_gaps"], gap if math.isfinite(gap) else None))
     typer.echo("")
     typer.echo(
         "  probability of pounding vs gap (fraction of records with contact | lognormal fit)"
@@ -532,11 +532,7 @@ def separation(
     ds = separation_analysis(loaded, options=options, **overrides)
     if output:
         save(ds, output)
-    gaps: dict[str, float] = {}
-    for c in loaded.contacts:  # the case's gap of each interface (its smallest, if floors differ)
-        name = f"{c.left}|{c.right}"
-        gaps[name] = min(gaps.get(name, math.inf), float(c.gap))
-    _print_separation(ds, output, gaps)
+    _print_separation(ds, output)
 
 
 # --- end separation verb ---

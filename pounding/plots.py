@@ -16,6 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 from matplotlib import cm
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from pounding.units import G
@@ -675,6 +676,16 @@ def study_histories(runs: Sequence[tuple[str, xr.Dataset]], building: str) -> Fi
 # --------------------------------------------------------------------------------------------------
 
 
+def _mark_case_gap(ax: Axes, ds: xr.Dataset, interface: str) -> None:
+    """The gap the case gives this interface, as a solid red line (results written before it was
+    recorded have none)."""
+    if "case_gap" not in ds:
+        return
+    gap = float(ds["case_gap"].sel(interface=interface))
+    if np.isfinite(gap):
+        ax.axvline(gap, color="C3", lw=1.4, label="gap in the case")
+
+
 def required_gaps(ds: xr.Dataset) -> Figure:
     """Required separation per estimate (rows) for every interface (panels): the median over the
     records as a bar, the 84th percentile and the largest value as markers."""
@@ -694,6 +705,7 @@ def required_gaps(ds: xr.Dataset) -> Figure:
         if np.isfinite(target):
             p = float(ds.attrs.get("target_probability", np.nan))
             ax.axvline(target, color="C2", ls="--", lw=1, label=f"lognormal, P = {p:.3g}")
+        _mark_case_gap(ax, ds, f)
         ax.set_title(f"interface {plain_text(f)}", fontsize=9)
         ax.set_xlabel(label(stat, "required gap"))
         ax.grid(axis="x", alpha=0.3)
@@ -720,6 +732,7 @@ def pounding_probability(ds: xr.Dataset) -> Figure:
             ax.axhline(p, color="0.5", ls=":", lw=1)
         if np.isfinite(target):
             ax.axvline(target, color="C2", ls="--", lw=1, label=f"P = {p:.3g}: {target:.4g} m")
+        _mark_case_gap(ax, ds, f)
         ax.set_title(f"interface {plain_text(f)}", fontsize=9)
         ax.set_xlabel(label(gap, "gap"))
         ax.set_ylim(-0.02, 1.02)

@@ -1025,7 +1025,19 @@ _ATTRS: dict[str, dict[str, str]] = {
         "units": "m",
         "long_name": "gap with the target probability of pounding (lognormal fit)",
     },
+    "case_gap": {"units": "m", "long_name": "gap of the case's contacts (smallest per interface)"},
 }
+
+
+def _case_gaps(case: Any, interfaces: Sequence[str]) -> np.ndarray:
+    """The case's gap at each interface (its smallest when floors differ); NaN where the case has
+    no contact there."""
+    gaps = dict.fromkeys(interfaces, math.inf)
+    for c in getattr(case, "contacts", ()):
+        name = f"{c.left}|{c.right}"
+        if name in gaps:
+            gaps[name] = min(gaps[name], float(c.gap))
+    return np.array([g if math.isfinite(g) else np.nan for g in gaps.values()])
 
 
 def _apply_attrs(ds: xr.Dataset) -> None:
@@ -1292,6 +1304,7 @@ def separation_analysis(
         "lognormal_beta": (("interface",), np.array([f.beta for f in fits])),
         "lognormal_fraction": (("interface",), np.array([f.fraction for f in fits])),
         "gap_for_target_probability": (("interface",), g_target),
+        "case_gap": (("interface",), _case_gaps(case, interfaces)),
     }
     coords = {
         "record": _unique_names(grounds),

@@ -173,6 +173,16 @@ def test_separation_says_whether_the_cases_gap_suffices(tmp_path):
     relation = "<" if 0.05 < required else ">="
     assert f"gap 0.050 m {relation} required {required:.3f} m (exact, median of 3 records)" in line
     assert f"{hits} of 3 records" in line
+    # the Dataset carries the case's gap and the plots mark it
+    assert float(ds["case_gap"].sel(interface="A|B")) == 0.05
+    assert ds["case_gap"].attrs["units"] == "m"
+    from pounding import plots
+
+    for fig in (plots.required_gaps(ds), plots.pounding_probability(ds)):
+        lines = [
+            ln for ax in fig.axes for ln in ax.get_lines() if ln.get_label() == "gap in the case"
+        ]
+        assert lines and all(ln.get_xdata()[0] == 0.05 for ln in lines)
 
 
 def test_separation_records_keep_the_cases_scale(tmp_path):

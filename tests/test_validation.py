@@ -60,6 +60,7 @@ WRONG = [
     (("contact", 0, "e"), {}, "contact[0].e"),
     (("contact", 0, "e"), 1.5, "contact[0].e"),
     (("ground_motion", "units"), 1, "ground_motion.units"),
+    (("ground_motion", "units"), "x", "ground_motion.units = 'x'"),
     (("ground_motion", "amplitude"), True, "ground_motion.amplitude"),
     (("ground_motion", "dt"), 1e-300, "ground_motion.dt"),
     (("analysis", "max_halvings"), math.inf, "analysis.max_halvings"),
