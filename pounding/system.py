@@ -279,11 +279,16 @@ def _check_floor(where: str, f: Any, b: ShearBuilding) -> int:
     return i
 
 
+def _levels(b: ShearBuilding, shown: int = 4) -> str:
+    z = [f"{e:.4g}" for e in b.elevations]
+    return ", ".join(z if len(z) <= shown else [*z[: shown - 1], "...", z[-1]])
+
+
 def _floor_pairs(
-    contact: Contact, left: ShearBuilding | None, right: ShearBuilding | None
+    contact: Contact, left: ShearBuilding | None, right: ShearBuilding | None, where: str
 ) -> list[tuple[int, int]]:
-    """(left floor, right floor) pairs of a contact, 1-based (0 = a base slab), 0 on a wall side."""
-    where = f"contact {contact.left!r}-{contact.right!r}"
+    """(left floor, right floor) pairs of a contact, 1-based (0 = a base slab), 0 on a wall side;
+    ``where`` names the contact in errors."""
     floors = contact.floors
     if left is not None and right is not None:
         if isinstance(floors, str):
@@ -300,8 +305,10 @@ def _floor_pairs(
             ]
             if not pairs:
                 raise PoundingInputError(
-                    f"{where}: the buildings have no floor at a common elevation; give explicit "
-                    "floors = [[left_floor, right_floor], ...]"
+                    f"{where}: floors = 'common' but no floor of {left.name!r} (floors at "
+                    f"{_levels(left)} m) is at the elevation of a floor of {right.name!r} ("
+                    f"{_levels(right)} m); allowed: explicit floors = [[left_floor, right_floor], "
+                    "...], or story heights that line up"
                 )
             return pairs
         pairs = []
@@ -359,11 +366,14 @@ def assemble(
 
     rows: list[dict[str, Any]] = []
     for g, contact in enumerate(contacts):
-        where = f"contact {contact.left!r}-{contact.right!r}"
+        # contact[g], as in the case file's [[contact]] list (and the caller's contacts sequence)
+        where = f"contact[{g}] {contact.left!r}-{contact.right!r}"
         for side in (contact.left, contact.right):
             if side != WALL and side not in index:
+                key = "left" if side == contact.left else "right"
                 raise PoundingInputError(
-                    f"{where}: unknown building {side!r}; allowed: {', '.join(names)} or {WALL!r}"
+                    f"{where}: {key} = {side!r}: unknown building {side!r}; allowed: "
+                    f"{', '.join(names)} or {WALL!r}"
                 )
         li = index.get(contact.left)
         ri = index.get(contact.right)
@@ -375,7 +385,7 @@ def assemble(
         lb = buildings[li] if li is not None else None
         rb = buildings[ri] if ri is not None else None
         law: ContactLaw = get_contact_law(contact.law)
-        for fl, fr in _floor_pairs(contact, lb, rb):
+        for fl, fr in _floor_pairs(contact, lb, rb, where):
             ma = _point_mass(lb, fl)
             mb = _point_mass(rb, fr)
             m_eff = mb if math.isinf(ma) else ma if math.isinf(mb) else ma * mb / (ma + mb)

@@ -55,18 +55,33 @@ def _broken(path: list, value) -> dict:
         (["building", 0, "masses"], KeyError, r"building\[0\]\.masses is required"),
         (["contact", 0, "gap"], -0.1, r"gap = -0.1"),
         (["contact", 0, "k"], KeyError, r"k \(contact stiffness"),
-        (["contact", 0, "right"], "C", r"unknown building 'C'"),
+        (["contact", 0, "right"], "C", r"contact\[0\] 'A'-'C': right = 'C': unknown building 'C'"),
         (["contact", 0, "colour"], "red", r"contact\[0\]: unknown key\(s\) colour"),
         (["analysis", "method"], "euler", r"analysis.method = 'euler'; allowed: .*newmark.*ivp"),
         (["analysis", "dt"], -1.0, r"analysis.dt = -1.0"),
         (["ground_motion", "type"], "square", r"ground_motion.type = 'square'; allowed: harmonic"),
-        (["ground_motion", "units"], "furlongs", r"unknown acceleration unit 'furlongs'"),
+        (
+            ["ground_motion", "units"],
+            "furlongs",
+            r"ground_motion\.units = 'furlongs': unknown acceleration unit 'furlongs'",
+        ),
         (["building", 1, "damping"], {"ratio": 1.2}, r"ratio"),
     ],
 )
 def test_bad_case_names_the_key(path, value, message):
     with pytest.raises(CaseError, match=message):
         case_from_dict(_broken(path, value))
+
+
+def test_common_floors_that_do_not_exist_name_the_heights():
+    # a fuzzed height (campaign of issue 16) left no common floor: the error says which heights
+    data = copy.deepcopy(BASE)
+    data["building"][1]["height"] = 3.7
+    with pytest.raises(
+        CaseError, match=r"contact\[0\] 'A'-'B': floors = 'common' but no floor"
+    ) as e:
+        case_from_dict(data)
+    assert "(floors at 3, 6 m)" in str(e.value) and "(3.7, 7.4, 11.1 m)" in str(e.value)
 
 
 def test_contact_between_non_neighbours_is_rejected():
