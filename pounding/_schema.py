@@ -32,6 +32,7 @@ ATTRS: dict[str, dict[str, str]] = {
     "term": {"long_name": "energy term"},
     "mode": {"long_name": "mode number"},
     "impact": {"long_name": "impact number"},
+    "impact_point": {"long_name": "kept integration step of the impact path"},
     "floor_elevation": {"units": "m", "long_name": "floor elevation above ground"},
     "story_height": {"units": "m", "long_name": "story height"},
     "floor_mass": {"units": "kg", "long_name": "floor mass"},
@@ -91,6 +92,14 @@ ATTRS: dict[str, dict[str, str]] = {
     "impact_peak_force": {"units": "N", "long_name": "peak force of the impact"},
     "impact_max_penetration": {"units": "m", "long_name": "maximum penetration of the impact"},
     "impact_impulse": {"units": "N s", "long_name": "impulse of the impact"},
+    "impact_path_penetration": {
+        "units": "m",
+        "long_name": "penetration at integration steps through the impact (closure to separation)",
+    },
+    "impact_path_force": {
+        "units": "N",
+        "long_name": "contact force at integration steps through the impact (closure to separation)",
+    },
     "base_type": {"long_name": "base: fixed, flat (slider) or friction_pendulum"},
     "friction_law": {"long_name": "friction law of the isolation bearings"},
     "base_mass": {"units": "kg", "long_name": "mass of the base slab"},
@@ -267,6 +276,9 @@ def result_variables(
     for name in ("start", "end", "v0", "v_end", "peak_force", "max_penetration", "impulse"):
         d[f"impact_{name}"] = (("impact",), np.asarray(imp[name], dtype=float))
     d["impact_contact"] = (("impact",), np.asarray(imp["element"], dtype=np.int64))
+    if "path_force" in imp:
+        for name in ("path_penetration", "path_force"):
+            d[f"impact_{name}"] = (("impact", "impact_point"), np.asarray(imp[name], dtype=float))
     coords = {
         "time": raw.time,
         "building": list(system.building_names),
@@ -276,6 +288,7 @@ def result_variables(
         "term": list(ENERGY_TERMS),
         "mode": np.arange(1, width + 1),
         "impact": np.arange(len(imp["element"])),
+        **({"impact_point": np.arange(imp["path_force"].shape[1])} if "path_force" in imp else {}),
         "floor_elevation": (("building", "floor"), _padded([b.elevations for b in bl], width)),
         "story_height": (("building", "story"), heights),
         "contact_left": (("contact",), np.array(el.left, dtype=object).astype(str)),

@@ -357,12 +357,28 @@ def _largest_impact(ds: xr.Dataset) -> tuple[int, slice] | None:
     return c, slice(max(lo - 1, 0), min(hi + 2, f.size))
 
 
+def _impact_path(ds: xr.Dataset) -> tuple[int, float, np.ndarray, np.ndarray] | None:
+    """(gap element, start time, penetration, force) of the impact with the largest force, at the
+    integration steps the result kept (``impact_path_*``); None without them or without impacts."""
+    if "impact_path_force" not in ds or not ds.sizes.get("impact", 0):
+        return None
+    i = int(np.nanargmax(ds["impact_peak_force"].values))
+    d = ds["impact_path_penetration"].values[i]
+    f = ds["impact_path_force"].values[i]
+    kept = np.isfinite(d) & np.isfinite(f)
+    if kept.sum() < 2:
+        return None
+    c = int(ds["impact_contact"].values[i])
+    return c, float(ds["impact_start"].values[i]), d[kept], f[kept]
+
+
 def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = "") -> Figure:
     """Force–penetration loop of the strongest impact of each (label, Dataset).
 
-    Drawn from the stored samples (output grid or kept histories), from the sample before the
-    gap closes to the one after it opens; the peaks in the tables are exact, tracked at every
-    integration step.
+    Drawn from the impact's integration steps when the result kept them (``impact_path_force``:
+    analyses), else from the stored samples (output grid or kept histories), from the sample
+    before the gap closes to the one after it opens; the peaks in the tables are exact, tracked
+    at every integration step.
     """
     fig, axes = _figure(3.6)
     ax = axes[0, 0]
@@ -372,13 +388,17 @@ def force_penetration(runs: Sequence[tuple[str, xr.Dataset]], *, title: str = ""
             label(ds["penetration"], "penetration", units="mm"),
             label(ds["contact_force"], units="MN"),
         )
-        found = _largest_impact(ds)
-        if found is None:
-            continue
-        c, window = found
-        d = np.maximum(ds["penetration"].sel(contact=c).values[window], 0.0)
-        f = ds["contact_force"].sel(contact=c).values[window]
-        t0 = float(ds["time"].values[window][0])
+        path = _impact_path(ds)
+        if path is not None:
+            c, t0, d, f = path
+        else:
+            found = _largest_impact(ds)
+            if found is None:
+                continue
+            c, window = found
+            d = np.maximum(ds["penetration"].sel(contact=c).values[window], 0.0)
+            f = ds["contact_force"].sel(contact=c).values[window]
+            t0 = float(ds["time"].values[window][0])
         ax.plot(
             d * 1e3,
             f / 1e6,

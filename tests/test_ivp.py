@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 
 from pounding.contact.laws import alpha_hunt_crossley
 from pounding.ground_motion import GroundMotion, harmonic, nigam_jennings_coefficients, sine_pulse
-from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS
+from pounding.integrators.base import ENERGY_TERMS, IMPACT_FIELDS, PATH_POINTS
 from pounding.integrators.ivp import IVP_METHODS, integrate_ivp
 from pounding.structure import ModalDamping, ShearBuilding
 from pounding.system import Contact, assemble
@@ -286,7 +286,13 @@ def test_impact_log_is_consistent_with_the_histories(pulse):
     times = np.round(np.arange(0.0, 1.2 + 1e-9, 2e-4), 10)
     r = integrate_ivp(system, pulse, output_times=times)
     imp = r.impacts
-    assert set(imp) == set(IMPACT_FIELDS)
+    assert set(imp) == {*IMPACT_FIELDS, "path_penetration", "path_force"}
+    assert imp["path_force"].shape == (imp["start"].size, PATH_POINTS)
+    # each impact's step path stays within its own peaks
+    assert np.all(np.nanmax(imp["path_force"], axis=1) <= imp["peak_force"] * (1 + 1e-12))
+    assert np.all(
+        np.nanmax(imp["path_penetration"], axis=1) <= imp["max_penetration"] * (1 + 1e-12)
+    )
     assert np.all(np.diff(imp["start"]) >= 0.0)  # sorted by start
     assert np.all(imp["start"] < imp["end"])
     assert np.all(imp["v0"] > 0.0) and np.all(imp["v_end"] < 0.0)

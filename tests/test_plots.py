@@ -56,10 +56,12 @@ def test_analysis_figures_build(analysis):
         assert isinstance(fig, Figure) and fig.axes
     fig = plots.force_penetration([("law", analysis)])
     line = fig.axes[0].lines[0]
-    # the loop starts and ends open (zero force) and reaches the impact's sampled peak force
+    # the loop starts and ends open (zero force); drawn from the integration steps, it reaches
+    # the impact's exact peak force, above the output grid's sampled one
     y = np.asarray(line.get_ydata())
-    assert y[0] == 0 and y[-1] == 0
-    assert y.max() == pytest.approx(float(analysis["contact_force"].max()) / 1e6)
+    assert y[0] == 0 and y[-1] == pytest.approx(0.0, abs=1e-9)
+    assert y.max() == pytest.approx(float(analysis["impact_peak_force"].max()) / 1e6, rel=1e-2)
+    assert y.max() >= float(analysis["contact_force"].max()) / 1e6
     assert fig.axes[0].get_ylabel() == "contact force [MN]"  # long_name from the attrs
 
 

@@ -137,8 +137,16 @@ def bouc_wen_slide(z0, du, bw):
 # --------------------------------------------------------------------------------------------------
 import numpy as np  # noqa: E402
 
+from pounding.integrators.base import PATH_POINTS  # noqa: E402
+
 #: Layout of the float row of the impact log.
 IMP_START, IMP_END, IMP_V0, IMP_VEND, IMP_FMAX, IMP_DMAX, IMP_IMPULSE = range(7)
+#: Columns of the impact log after those fields: points kept, steps per kept point, steps seen, then
+#: PATH_POINTS (penetration [m], force [N]) pairs at integration steps through the impact, from the
+#: closure to the separation; a longer impact keeps every 2nd, 4th, ... step (force-penetration loops
+#: drawn from the output grid missed the peak of a 70-90 ms impact by up to 40 %).
+IMP_NPTS, IMP_STRIDE, IMP_SEEN, IMP_PATH = 7, 8, 9, 10
+IMP_COLUMNS = IMP_PATH + 2 * PATH_POINTS
 #: Layout of the integer counters array.
 CNT_IMPACTS, CNT_SUBSTEPS, CNT_NEWTON, CNT_LOCATED, CNT_STATUS, CNT_HALVINGS = range(6)
 CNT_FRICTION = 6  # located stick-slip events
@@ -162,6 +170,45 @@ N_FS = 7
 #: Break-away is located to this fraction of μ_s N, re-sticking to this fraction of the speed scale.
 FRICTION_FORCE_TOL = 1e-10
 FRICTION_SPEED_TOL = 1e-9
+
+
+@jit
+def path_start(row):
+    """Start the step path of an impact (its log row) at the closure: no penetration, no force."""
+    row[IMP_NPTS] = 1.0
+    row[IMP_STRIDE] = 1.0
+    row[IMP_SEEN] = 0.0
+    row[IMP_PATH] = 0.0
+    row[IMP_PATH + 1] = 0.0
+
+
+@jit
+def path_add(row, d, f, last):
+    """Add the step ending at penetration d [m] and force f [N] to the impact's path: every
+    stride-th step, always the last; a full path drops every other point and doubles the stride."""
+    seen = row[IMP_SEEN] + 1.0
+    row[IMP_SEEN] = seen
+    stride = row[IMP_STRIDE]
+    n = int(row[IMP_NPTS])
+    if seen % stride != 0.0 and not last:
+        return
+    if n == PATH_POINTS:
+        if last:
+            n -= 1  # the separation replaces the latest kept step
+        else:
+            half = PATH_POINTS // 2
+            for j in range(half):
+                row[IMP_PATH + 2 * j] = row[IMP_PATH + 4 * j]
+                row[IMP_PATH + 2 * j + 1] = row[IMP_PATH + 4 * j + 1]
+            n = half
+            stride *= 2.0
+            row[IMP_STRIDE] = stride
+            row[IMP_NPTS] = n
+            if seen % stride != 0.0:
+                return
+    row[IMP_PATH + 2 * n] = d
+    row[IMP_PATH + 2 * n + 1] = f
+    row[IMP_NPTS] = n + 1
 
 
 @jit
@@ -1674,6 +1721,7 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     imp_val[i_imp, IMP_FMAX] = 0.0
                     imp_val[i_imp, IMP_DMAX] = 0.0
                     imp_val[i_imp, IMP_IMPULSE] = 0.0
+                    path_start(imp_val[i_imp])
                 if el_in[c]:
                     i_imp = el_imp[c]
                     imp_val[i_imp, IMP_FMAX] = max(imp_val[i_imp, IMP_FMAX], f1[c])
@@ -1682,11 +1730,13 @@ def newmark_run(M, C, K, iota, ag, ag_dt, h, n_steps, out_every, gamma, beta, al
                     # separation (located: the step ends there); a grazing closure that never
                     # penetrated ends once it recedes
                     soon = dd1[c] < 0.0 and d1[c] < -EVENT_FRACTION * hs * dd1[c]
-                    if (
+                    ends = (
                         separating[c]
                         or soon
                         or (d1[c] <= 0.0 and (imp_val[i_imp, IMP_DMAX] > 0.0 or dd1[c] < 0.0))
-                    ):
+                    )
+                    path_add(imp_val[i_imp], max(d1[c], 0.0), f1[c], ends)
+                    if ends:
                         if separating[c] or (soon and d1[c] > 0.0):
                             vc = dd1[c]
                             imp_val[i_imp, IMP_END] = t1 + max(d1[c], 0.0) / -vc

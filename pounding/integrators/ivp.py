@@ -83,6 +83,7 @@ from pounding.integrators.base import (
     ENERGY_TERMS,
     IMPACT_FIELDS,
     RawResult,
+    path_table,
     response_scales,
     v0_floor,
 )
@@ -541,6 +542,8 @@ class _Recorder:
         last = t.size - 1
         for c in np.flatnonzero(in_contact):
             rec = self.open[int(c)]
+            inside = q["d"][:, c] > 0.0
+            rec["_path"].append((q["d"][inside, c], q["force"][inside, c]))
             for key, field, peak in (
                 ("force", "peak_force", pk["force"]),
                 ("d", "max_penetration", pk["d"]),
@@ -572,6 +575,7 @@ class _Recorder:
             max_penetration=0.0,
             impulse=math.nan,
             _j0=impulse,
+            _path=[(np.zeros(1), np.zeros(1))],  # (penetration, force) samples from the closure
         )
 
     def impact_log(self, impulse_now: np.ndarray) -> dict[str, np.ndarray]:
@@ -583,6 +587,10 @@ class _Recorder:
         rows.sort(key=lambda r: (r["start"], r["element"]))
         log = {f: np.array([r[f] for r in rows], dtype=float) for f in IMPACT_FIELDS}
         log["element"] = log["element"].astype(np.int64)
+        paths = [
+            tuple(np.concatenate(part) for part in zip(*r["_path"], strict=True)) for r in rows
+        ]
+        log["path_penetration"], log["path_force"] = path_table(paths)
         return log
 
 

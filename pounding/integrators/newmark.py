@@ -55,6 +55,7 @@ from pounding.integrators import _kernels as kn
 from pounding.integrators.base import (
     ENERGY_TERMS,
     IMPACT_FIELDS,
+    PATH_POINTS,
     ConvergenceError,
     RawResult,
     response_scales,
@@ -202,6 +203,14 @@ def _remedies(max_iter: int, max_halvings: int, locate_onset: bool, adaptive: bo
     return f"{options}a smaller dt, or a softer contact k"
 
 
+def impact_paths(imp_val: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(impact, point) penetration [m] and force [N] of the kernel's step paths, NaN-padded."""
+    n = imp_val[:, kn.IMP_NPTS].astype(np.int64)
+    pts = imp_val[:, kn.IMP_PATH :].reshape(len(imp_val), PATH_POINTS, 2)
+    kept = np.arange(PATH_POINTS)[None, :] < n[:, None]
+    return np.where(kept, pts[:, :, 0], np.nan), np.where(kept, pts[:, :, 1], np.nan)
+
+
 def integrate_newmark(
     system: PoundingSystem,
     ground: GroundMotion,
@@ -250,7 +259,7 @@ def integrate_newmark(
         }
         peaks = [np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_el), np.zeros(n_el)]
         imp_el = np.zeros(impact_capacity, dtype=np.int64)
-        imp_val = np.zeros((impact_capacity, 7))
+        imp_val = np.zeros((impact_capacity, kn.IMP_COLUMNS))
         counters = np.zeros(7, dtype=np.int64)
         t_reached = kn.newmark_run(
             system.mass, system.damping, system.stiffness, system.influence,
@@ -282,6 +291,7 @@ def integrate_newmark(
     impacts = {"element": imp_el[:n_imp].copy()}
     for j, name in enumerate(IMPACT_FIELDS[1:]):
         impacts[name] = imp_val[:n_imp, j].copy()
+    impacts["path_penetration"], impacts["path_force"] = impact_paths(imp_val[:n_imp])
     return RawResult(
         time=dt * output_every * np.arange(n_out),
         displacement=out["u"],

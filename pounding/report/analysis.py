@@ -212,7 +212,8 @@ def _results_section(ds: xr.Dataset, contacts: Table | None) -> Section:
         res.blocks.append(
             Plot(
                 plots.force_penetration([(str(ds["contact_law"].values[0]), ds)]),
-                "Force–penetration loop of the gap element with the largest force (output grid).",
+                "Force–penetration loop of the impact with the largest force, at the integration "
+                "steps through it (at most 48 points kept, closure to separation).",
             )
         )
         res.blocks.append(_impacts_table(ds))
