@@ -327,15 +327,62 @@ def _active_contacts(ds: xr.Dataset) -> list[int]:
     return [int(c) for c, p in zip(ds["contact"].values, peak, strict=False) if p > 0]
 
 
+#: Contact-force panels drawn at most (the elements with the largest forces); time kept around
+#: the impacts on either side [s].
+MAX_FORCE_PANELS, IMPACT_MARGIN = 6, 0.25
+
+
+def impact_window(ds: xr.Dataset, margin: float = IMPACT_MARGIN) -> tuple[float, float] | None:
+    """The time span [s] from the first impact's start to the last one's end, widened by
+    ``margin`` on each side and kept within the record; None without impacts."""
+    if not ds.sizes.get("impact", 0):
+        return None
+    t = ds["time"].values
+    start = float(np.nanmin(ds["impact_start"].values))
+    ends = ds["impact_end"].values
+    end = float(np.nanmax(ends)) if np.isfinite(ends).any() else float(t[-1])
+    return max(float(t[0]), start - margin), min(float(t[-1]), end + margin)
+
+
+def _peak_times(ds: xr.Dataset, c: int, mine: np.ndarray) -> np.ndarray:
+    """Where to draw each impact's exact peak: the output sample of largest force inside the
+    impact, or its middle when no sample falls inside (an impact shorter than the output step)."""
+    t = ds["time"].values
+    f = ds["contact_force"].sel(contact=c).values
+    out = []
+    for start, end in zip(
+        ds["impact_start"].values[mine], ds["impact_end"].values[mine], strict=True
+    ):
+        end = t[-1] if not np.isfinite(end) else end
+        inside = np.flatnonzero((t >= start) & (t <= end))
+        out.append(t[inside[np.argmax(f[inside])]] if inside.size else 0.5 * (start + end))
+    return np.asarray(out, dtype=float)
+
+
 def contact_forces(ds: xr.Dataset) -> Figure:
-    """Contact force over time of every gap element that closed."""
+    """Contact force [MN] over time of the gap elements that closed (the MAX_FORCE_PANELS with the
+    largest forces), zoomed on the span of the impacts, each impact's exact peak marked."""
     active = _active_contacts(ds) or [int(c) for c in ds["contact"].values[:1]]
+    if len(active) > MAX_FORCE_PANELS:
+        peak = ds["peak_contact_force"]
+        active = sorted(active, key=lambda c: -float(peak.sel(contact=c)))[:MAX_FORCE_PANELS]
+        active.sort()
     fig, axes = _figure(1.2 + 1.5 * len(active), nrows=max(1, len(active)), sharex=True)
+    window = impact_window(ds)
     for ax, c in zip(axes[:, 0], active, strict=False):
-        ax.plot(ds["time"], ds["contact_force"].sel(contact=c), lw=0.8)
+        ax.plot(ds["time"], ds["contact_force"].sel(contact=c) / 1e6, lw=0.8)
+        if ds.sizes.get("impact", 0):
+            mine = ds["impact_contact"].values == c
+            ax.plot(_peak_times(ds, c, mine), ds["impact_peak_force"].values[mine] / 1e6, "v",
+                    ms=3.5, color="C3", label="peak of each impact (every step)")  # fmt: skip
         ax.set_title(f"contact {c}: {_contact_name(ds, c)}", fontsize="small", loc="left")
-        ax.set_ylabel(label(ds["contact_force"], "force"))
+        ax.set_ylabel(label(ds["contact_force"], "force", units="MN"))
+        ax.set_ylim(bottom=0.0)
+    if window is not None:
+        axes[0, 0].set_xlim(*window)
     axes[-1, 0].set_xlabel(label(ds["time"]))
+    if ds.sizes.get("impact", 0):
+        axes[0, 0].legend(fontsize="x-small", loc="upper right")
     return fig
 
 

@@ -166,3 +166,18 @@ def test_displacement_histories_of_a_tall_row_draw_the_roof_and_the_most_struck_
     ranked = [int(f) for f in floors[np.argsort(-force)] if f != 12]
     top = set(ranked[: plots.MAX_HISTORY_FLOORS - 1])
     assert {f"floor {f}" for f in top} <= set(drawn)
+
+
+def test_contact_forces_are_in_mn_zoomed_on_the_impacts_with_exact_peaks(analysis):
+    fig = plots.contact_forces(analysis)
+    ax = fig.axes[0]
+    history, peaks = ax.get_lines()
+    np.testing.assert_allclose(history.get_ydata(), analysis["contact_force"].isel(contact=0) / 1e6)
+    assert ax.get_ylabel() == "force [MN]"
+    # the peaks tracked at every step, at least the sampled ones
+    np.testing.assert_allclose(peaks.get_ydata(), analysis["impact_peak_force"].values / 1e6)
+    assert np.all(peaks.get_xdata() >= analysis["impact_start"].values)
+    lo, hi = ax.get_xlim()
+    start, end = float(analysis["impact_start"].min()), float(analysis["impact_end"].max())
+    assert lo == pytest.approx(max(0.0, start - plots.IMPACT_MARGIN))
+    assert hi == pytest.approx(min(float(analysis["time"][-1]), end + plots.IMPACT_MARGIN))

@@ -206,7 +206,9 @@ def _results_section(ds: xr.Dataset, contacts: Table | None) -> Section:
         res.blocks.append(contacts)
         res.blocks.append(
             Plot(
-                plots.contact_forces(ds), "Contact force histories of the gap elements that closed."
+                plots.contact_forces(ds),
+                "Contact force histories of the gap elements that closed (at most six, the largest), "
+                "zoomed on the impacts; ▼ the exact peak of each impact, tracked at every step.",
             )
         )
         res.blocks.append(
