@@ -490,6 +490,18 @@ def test_analysis_report_flags_the_restitution_of_the_law_as_run(calibration, fl
     data["contact"][0].update(law="lankarani_nikravesh", calibration=calibration)
     ds = simulate(case_from_dict(data))
     assert set(ds["contact_calibration"].values) == {calibration}
+    # the run's summary warns too (the CLI prints it): its free impact through the compiled loop
+    # against the independent DOP853 one of effective_restitution at the same speed
+    warned = [w for w in ds.pounding.summary()["warnings"] if "rebounds at e =" in w]
+    assert bool(warned) is flagged
+    if flagged:
+        from pounding.contact.calibrate import effective_restitution
+
+        v0 = float(warned[0].split(" m/s")[0].split()[-1])
+        e_loop = float(warned[0].split("rebounds at e = ")[1].split()[0])
+        mass = float(ds["contact_effective_mass"].max())
+        ref = effective_restitution("lankarani_nikravesh", k=2.75e9, mass=mass, v0=v0, e=0.65)
+        assert e_loop == pytest.approx(ref.e_effective, abs=1.5e-3)
     model = next(s for s in build_report(ds).sections if s.title == "Model")
     table = next(b for b in model.blocks if hasattr(b, "header") and "effective e" in b.header)
     assert ("Warning: lankarani_nikravesh" in table.caption) is flagged
