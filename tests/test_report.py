@@ -35,6 +35,7 @@ STUDY_SECTIONS = (
 )
 
 SEPARATION_SECTIONS = (
+    "Executive summary",
     "Buildings",
     "Method",
     "Interface A|B",
@@ -208,10 +209,19 @@ def test_separation_report_tables_are_the_datasets_figures(separation_report):
     rep = build_report(ds)
     assert rep.kind == "separation"
     assert [s.title for s in rep.sections] == list(SEPARATION_SECTIONS)
-    buildings = rep.sections[0].blocks[0]
+    # the executive summary: the case's gap against the exact required gap, records that pound
+    (row,) = rep.sections[0].blocks[0].rows
+    exact = ds["required_gap"].sel(interface="A|B", estimate="time_history").values
+    assert row[:2] == ["A|B", _g(0.05)]
+    assert row[2].split(" / ")[0] == _g(float(np.median(exact)), 3)
+    assert row[3] == f"{int((exact > 0.05).sum())} of 3"
+    assert row[5] == (
+        "pounding expected" if 0.05 < np.median(exact) else "no pounding in the median record"
+    )
+    buildings = rep.sections[1].blocks[0]
     t1 = ds["natural_period"].sel(building="B").isel(mode=0)
     assert buildings.rows[1][:2] == ["B", _g(float(t1))]
-    interface = rep.sections[2]
+    interface = rep.sections[3]
     assert "A:1-B:1, A:2-B:2" in interface.blocks[0]
     table = interface.blocks[1]
     stat = ds["required_gap_statistic"].sel(interface="A|B")
@@ -453,7 +463,7 @@ def test_study_dispersion_is_the_maximum_likelihood_lognormal_fit(study_report):
 def test_separation_report_names_its_lognormal_fit(separation_report):
     ds, paths = separation_report
     rep = build_report(ds)
-    interface = rep.sections[2]
+    interface = rep.sections[3]
     fit = next(b for b in interface.blocks if isinstance(b, str) and "β" in b)
     assert "(lognormal, maximum likelihood)" in fit
     from pounding.report import _g

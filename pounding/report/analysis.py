@@ -119,6 +119,7 @@ def _impacts_table(ds: xr.Dataset) -> Table:
             _g(r.max_penetration * 1e3, 4),
             _g(r.impulse / 1e3, 4),
             _g(r.rebound_ratio, 3),
+            _g(r.nominal_e, 3) if r.nominal_e == r.nominal_e else "1 (elastic)",
         ]
         for r in imp.head(_MAX_ROWS).itertuples()
     ]
@@ -126,6 +127,11 @@ def _impacts_table(ds: xr.Dataset) -> Table:
         f"First {_MAX_ROWS} of {len(imp)} impacts."
         if len(imp) > _MAX_ROWS
         else f"{len(imp)} impacts."
+    )
+    cap += (
+        " Rebound/approach: the ratio of the separation to the approach speed in the structure "
+        "(other floors and modes push and pull: it may exceed 1); law's e: the restitution the law "
+        "is set to (its single-impact value is in the Model section)."
     )
     return Table(
         [
@@ -137,6 +143,7 @@ def _impacts_table(ds: xr.Dataset) -> Table:
             "max penetration [mm]",
             "impulse [kN s]",
             "rebound/approach",
+            "law's e",
         ],
         rows,
         cap,
