@@ -450,15 +450,15 @@ def test_a_stop_request_is_not_lost_when_a_callback_swallows_the_interrupt(tmp_p
 
 def test_a_signal_while_a_run_is_stored_waits_until_it_is_stored(tmp_path, monkeypatch):
     # a stop between a run's file and its log line once left them disagreeing (1 trial in 72)
-    import pounding.studies as studies
+    import pounding.studies.store as store
 
-    write = studies._write_run_files
+    write = store._write_run_files
 
     def write_interrupted(store, result):
         signal.raise_signal(signal.SIGINT)
         write(store, result)
 
-    monkeypatch.setattr(studies, "_write_run_files", write_interrupted)
+    monkeypatch.setattr(store, "_write_run_files", write_interrupted)
     study = _study(gap=[0.002, 0.005])
     with stop_on_signals(), pytest.raises(StudyInterrupted) as info:
         run_study(study, tmp_path / "runs", jobs=1)

@@ -1,0 +1,412 @@
+"""One run's summary variables and the study Dataset assembled from the store."""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import json
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from pounding._version import __version__
+from pounding.case import Case
+from pounding.contact.laws import get_contact_law
+from pounding.errors import PoundingInputError
+from pounding.results import ATTRS
+from pounding.studies.plan import StudyPlan
+from pounding.studies.spec import LAW_PARAM_KEYS, NO_CONTACT, Record, Study, _combination_data
+from pounding.studies.store import _read_record, open_run
+
+_AXIS_ATTRS: dict[str, dict[str, str]] = {
+    "law": {"long_name": "contact law (every contact)"},
+    "gap": {"units": "m", "long_name": "initial gap (every contact)"},
+    "e": {"units": "1", "long_name": "nominal coefficient of restitution (every contact)"},
+    "k": {"units": "N/m^n", "long_name": "contact stiffness (every contact)"},
+    "record": {"long_name": "ground motion record"},
+    "scale": {"units": "1", "long_name": "record scale factor"},
+}
+# Units of dotted-path axes, by their last key.
+_PATH_UNITS = {
+    "k": "N/m^n",
+    "gap": "m",
+    "e": "1",
+    "n": "1",
+    "a": "1",
+    "delta_m": "m",
+    "ratio": "1",
+    "ratios": "1",
+    "mass": "kg",
+    "masses": "kg",
+    "stiffnesses": "N/m",
+    "period": "s",
+    "height": "m",
+    "heights": "m",
+    "dt": "s",
+    "output_dt": "s",
+    "duration": "s",
+    "scale": "1",
+}
+
+#: Summary variables of one run: name -> (dims, units, long_name).
+SUMMARY: dict[str, tuple[tuple[str, ...], str, str]] = {
+    "peak_displacement": (("building", "floor"), "m", ATTRS["peak_displacement"]["long_name"]),
+    "peak_drift_ratio": (("building", "story"), "1", ATTRS["peak_drift_ratio"]["long_name"]),
+    "peak_absolute_acceleration": (
+        ("building", "floor"),
+        "m/s^2",
+        ATTRS["peak_absolute_acceleration"]["long_name"],
+    ),
+    "peak_contact_force": (("contact",), "N", "peak contact force"),
+    "peak_penetration": (("contact",), "m", "peak penetration"),
+    "impact_count": (("contact",), "1", "number of impacts"),
+    "total_impulse": (("contact",), "N s", "total impulse of the impacts"),
+    "max_impact_velocity": (("contact",), "m/s", "largest approach speed at impact onset"),
+    "input_energy": ((), "J", "input energy at the end of the record"),
+    "damping_energy": ((), "J", "energy dissipated by structural damping"),
+    "contact_dissipated_energy": ((), "J", "energy dissipated by the contacts"),
+    "energy_balance_error": ((), "1", "energy balance error (fraction of the input energy)"),
+    "fundamental_period": (("building",), "s", "fundamental period (contacts open)"),
+}
+# Peaks whose ratio to the no-contact run is reported: summary name -> (study name, long_name).
+_AMPLIFIED = {
+    "peak_displacement": (
+        "displacement_amplification",
+        "peak displacement with contact / without (building maximum)",
+    ),
+    "peak_drift_ratio": (
+        "drift_amplification",
+        "peak drift ratio with contact / without (building maximum)",
+    ),
+    "peak_absolute_acceleration": (
+        "acceleration_amplification",
+        "peak absolute floor acceleration with contact / without (building maximum)",
+    ),
+}
+
+
+def run_summary(ds: xr.Dataset) -> xr.Dataset:
+    """The summary variables (:data:`SUMMARY`) of one analysis Dataset from :func:`simulate`."""
+    # read through ds.variables (plain Variables) and build the Dataset in one go: DataArray
+    # look-ups and coordinate assignment after construction cost more than the analysis itself
+    var = ds.variables
+    n_el = ds.sizes["contact"]
+    imp_contact = var["impact_contact"].values.astype(np.int64)
+    impulse = np.bincount(imp_contact, weights=var["impact_impulse"].values, minlength=n_el)[:n_el]
+    v_max = np.full(n_el, np.nan)
+    imp_v0 = var["impact_v0"].values
+    for c in np.unique(imp_contact):
+        v_max[c] = np.nanmax(imp_v0[imp_contact == c])
+    terms = list(var["term"].values)
+    final = var["energy"].values[-1]
+    values = {
+        "peak_displacement": var["peak_displacement"].values,
+        "peak_drift_ratio": var["peak_drift_ratio"].values,
+        "peak_absolute_acceleration": var["peak_absolute_acceleration"].values,
+        "peak_contact_force": var["peak_contact_force"].values,
+        "peak_penetration": var["peak_penetration"].values,
+        "impact_count": var["impact_count"].values.astype(float),
+        "total_impulse": impulse,
+        "max_impact_velocity": v_max,
+        "input_energy": final[terms.index("input")],
+        "damping_energy": final[terms.index("damping")],
+        "contact_dissipated_energy": final[terms.index("contact_dissipated")],
+        "energy_balance_error": float(ds.attrs.get("energy_balance_error", np.nan)),
+        "fundamental_period": var["natural_period"].values[:, 0],
+    }
+    data = {
+        name: (
+            SUMMARY[name][0],
+            np.asarray(v, dtype=float),
+            {"units": units, "long_name": long_name},
+        )
+        for name, v in values.items()
+        for (_, units, long_name) in [SUMMARY[name]]
+    }
+    coord_names = ("building", "floor", "story", "contact", "contact_left", "contact_right")
+    coords = {name: var[name].copy() for name in coord_names}
+    coords.update(
+        {name: var[name].copy() for name in ("contact_left_floor", "contact_right_floor")}
+    )
+    out = xr.Dataset(data, coords=coords)
+    for key in ("dt", "output_dt", "duration", "record", "method"):
+        if key in ds.attrs:
+            out.attrs[key] = ds.attrs[key]
+    return out
+
+
+# --------------------------------------------------------------------------------------------------
+# Assembly
+# --------------------------------------------------------------------------------------------------
+
+
+def _axis_coord(name: str, values: Sequence[Any]) -> tuple[str, np.ndarray, dict[str, str]]:
+    if name == "record":
+        data = np.array([r.name for r in values], dtype=object).astype(str)
+    elif all(isinstance(v, (str, int, float, bool)) for v in values):
+        data = np.asarray(values)
+        if data.dtype.kind == "U":
+            data = data.astype(str)
+    else:
+        data = np.array([json.dumps(v, sort_keys=True) for v in values], dtype=object).astype(str)
+    attrs = dict(_AXIS_ATTRS.get(name, {}))
+    if not attrs:
+        last = name.split(".")[-1]
+        attrs = {"long_name": f"case value {name}"}
+        if last in _PATH_UNITS:
+            attrs["units"] = _PATH_UNITS[last]
+    return name, data, attrs
+
+
+def _model_variables(case: Case, width: int) -> dict[str, tuple]:
+    """Model description of the base case (periods, mode shapes, masses) for reports."""
+    bl = case.system.buildings
+    nb = len(bl)
+
+    def padded(rows: list[np.ndarray]) -> np.ndarray:
+        out = np.full((nb, width), np.nan)
+        for i, r in enumerate(rows):
+            out[i, : r.size] = r
+        return out
+
+    shape = np.full((nb, width, width), np.nan)
+    for i, b in enumerate(bl):
+        s = b.modal().shapes
+        shape[i, : s.shape[0], : s.shape[1]] = s / s[-1]
+    return {
+        "natural_period": (("building", "mode"), padded([b.modal().periods for b in bl])),
+        "mode_shape": (("building", "floor", "mode"), shape),
+        "floor_mass": (("building", "floor"), padded([b.masses for b in bl])),
+        "story_stiffness": (("building", "story"), padded([b.stiffnesses for b in bl])),
+        "floor_elevation": (("building", "floor"), padded([b.elevations for b in bl])),
+        "story_height": (("building", "story"), padded([b.heights for b in bl])),
+    }
+
+
+def _record_variables(records_: Sequence[Record]) -> dict[str, tuple]:
+    n = max((r.motion.npts for r in records_ if r.motion is not None), default=1)
+    acc = np.full((len(records_), n), np.nan)
+    for i, r in enumerate(records_):
+        if r.motion is not None:
+            acc[i, : r.motion.npts] = r.motion.acceleration
+    nan = float("nan")
+
+    def text(values: list[str]) -> np.ndarray:
+        return np.array(values, dtype=object).astype(str)
+
+    return {
+        "record_acceleration": (("record", "record_sample"), acc),
+        "record_dt": (("record",), np.array([r.motion.dt if r.motion else nan for r in records_])),
+        "record_reference": (("record",), text([r.reference for r in records_])),
+        "record_processing": (
+            ("record",),
+            text(
+                [
+                    json.dumps(list(r.motion.metadata.get("processing", []))) if r.motion else "[]"
+                    for r in records_
+                ]
+            ),
+        ),
+    }
+
+
+_RECORD_ATTRS = {
+    "record_acceleration": {"units": "m/s^2", "long_name": "ground acceleration of the record"},
+    "record_dt": {"units": "s", "long_name": "record sampling interval"},
+    "record_reference": {"long_name": "record reference"},
+    "record_processing": {"long_name": "processing chain of the record (JSON list)"},
+    "run_status": {"long_name": "run status (ok or failed)"},
+    "run_error": {"long_name": "error message of a failed run"},
+    "run_key": {"long_name": "key of the run in the store"},
+    "baseline_key": {"long_name": "key of the no-contact run in the store"},
+}
+
+
+def _law_parameters(study: Study) -> dict[str, dict[str, Any]]:
+    """Parameters of the first contact under each law of the study (for reports)."""
+    contacts = study.case.data.get("contact", [])
+    if not contacts:
+        return {}
+    laws = [v for v in study.axes.get("law", ()) if v != NO_CONTACT] or [
+        get_contact_law(contacts[0].get("law", "linear")).name
+    ]
+    out = {}
+    for law in laws:
+        combo = {"law": law} if "law" in study.axes else {}
+        c = _combination_data(study, combo).get("contact", [{}])[0]
+        out[law] = {k: c[k] for k in LAW_PARAM_KEYS if k in c}
+        out[law]["effective_mass"] = float(study.case.system.elements.el_mass[0])
+    return out
+
+
+def assemble(plan: StudyPlan) -> xr.Dataset:
+    """The study Dataset from the stored runs: a dimension per axis and the summary variables.
+
+    Variables: the :data:`SUMMARY` variables over (axes..., their own dims), the peaks of the
+    no-contact run (``no_contact_peak_*``), the amplifications (``*_amplification``, building
+    maxima with contact over without), ``run_status``, ``run_error``, ``run_key``,
+    ``baseline_key``; the base case's model (``natural_period``, ``mode_shape``, ...) and the
+    records (``record_acceleration``, ``record_dt``, ...). Runs still missing from the store
+    count as failed with the error "not run".
+    """
+    study = plan.study
+    names = list(study.axes)
+    shape = study.shape
+    loaded: dict[str, xr.Dataset | None] = {}
+    errors: dict[str, str] = dict(plan.failed_records)
+
+    def get(key: str) -> xr.Dataset | None:
+        if key not in loaded:
+            loaded[key] = None
+            if key in errors:
+                return None
+            rec = _read_record(plan.store, key)
+            if rec is None:
+                errors[key] = "not run"
+                return None
+            if rec["status"] != "ok":
+                errors[key] = str(rec.get("error") or "failed")
+                return None
+            loaded[key] = xr.Dataset.from_dict(rec["summary"])
+        return loaded[key]
+
+    keys = [*plan.keys.ravel(), *plan.baseline_keys.ravel()]
+    runs = [get(k) for k in keys]
+    ok = [r for r in runs if r is not None]
+    buildings = list(study.case.system.building_names)
+    width = max(
+        [study.case.system.buildings[i].n_floors for i in range(len(buildings))]
+        + [r.sizes["floor"] for r in ok]
+    )
+    n_contact = max([len(study.case.system.elements)] + [r.sizes["contact"] for r in ok])
+    sizes = {"building": len(buildings), "floor": width, "story": width, "contact": n_contact}
+
+    def gather(name: str, keys_array: np.ndarray) -> np.ndarray:
+        dims = SUMMARY[name][0]
+        out = np.full((*shape, *(sizes[d] for d in dims)), np.nan)
+        for index in np.ndindex(*shape):
+            r = get(keys_array[index])
+            if r is not None:
+                v = r[name].values
+                out[index + tuple(slice(0, n) for n in v.shape)] = v
+        return out
+
+    axis_dims = tuple(names)
+    data: dict[str, tuple] = {}
+    for name, (dims, units, long_name) in SUMMARY.items():
+        data[name] = (
+            axis_dims + dims,
+            gather(name, plan.keys),
+            {"units": units, "long_name": long_name},
+        )
+    with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN slices of failed runs
+        for name, (amp, long_name) in _AMPLIFIED.items():
+            dims, units, base_long = SUMMARY[name]
+            base = gather(name, plan.baseline_keys)
+            data[f"no_contact_{name}"] = (
+                axis_dims + dims,
+                base,
+                {"units": units, "long_name": f"{base_long}, no contact"},
+            )
+            ratio = np.nanmax(data[name][1], axis=-1) / np.nanmax(base, axis=-1)
+            data[amp] = (axis_dims + ("building",), ratio, {"units": "1", "long_name": long_name})
+
+    def text(values: Callable[[str], str], keys_array: np.ndarray) -> np.ndarray:
+        return (
+            np.array([values(k) for k in keys_array.ravel()], dtype=object)
+            .astype(str)
+            .reshape(shape)
+        )
+
+    status = text(lambda k: "failed" if k in errors else "ok", plan.keys)
+    error = text(lambda k: errors.get(k, ""), plan.keys)
+    # a failed baseline leaves the amplification undefined: say so in the error text
+    base_err = text(lambda k: errors.get(k, ""), plan.baseline_keys)
+    error = np.where(
+        (base_err != "") & (error == ""), np.char.add("no-contact run: ", base_err), error
+    )
+    data["run_status"] = (axis_dims, status, {})
+    data["run_error"] = (axis_dims, error, {})
+    data["run_key"] = (axis_dims, plan.keys.astype(str), {})
+    data["baseline_key"] = (axis_dims, plan.baseline_keys.astype(str), {})
+    for name, value in {
+        **_model_variables(study.case, width),
+        **_record_variables(study.axes["record"]),
+    }.items():
+        data[name] = (*value, {})
+
+    coords: dict[str, Any] = {}
+    for name in names:
+        _, values, attrs = _axis_coord(name, study.axes[name])
+        coords[name] = (name, values, attrs)
+    coords.update(
+        building=("building", np.array(buildings, dtype=object).astype(str), ATTRS["building"]),
+        floor=("floor", np.arange(1, width + 1), ATTRS["floor"]),
+        story=("story", np.arange(1, width + 1), ATTRS["story"]),
+        mode=("mode", np.arange(1, width + 1), ATTRS["mode"]),
+        contact=("contact", np.arange(n_contact), ATTRS["contact"]),
+    )
+    el = study.case.system.elements
+    if len(el) == n_contact:
+        for name, values in (
+            ("contact_left", np.array(el.left, dtype=object).astype(str)),
+            ("contact_right", np.array(el.right, dtype=object).astype(str)),
+            ("contact_left_floor", el.left_floor),
+            ("contact_right_floor", el.right_floor),
+        ):
+            coords[name] = ("contact", values, ATTRS[name])
+    ds = xr.Dataset({k: (v[0], v[1]) for k, v in data.items()}, coords=coords)
+    for name, value in data.items():
+        ds[name].attrs.update(value[2] or ATTRS.get(name, {}) or _RECORD_ATTRS.get(name, {}))
+    for name in (
+        "record_acceleration",
+        "record_dt",
+        "record_reference",
+        "record_processing",
+        "run_status",
+        "run_error",
+        "run_key",
+        "baseline_key",
+    ):
+        ds[name].attrs.update(_RECORD_ATTRS[name])
+    n_failed = int((status == "failed").sum())
+    ds.attrs.update(
+        title=study.title,
+        pounding_kind="study",
+        axes=json.dumps(names),
+        law_params=json.dumps(study.law_params, sort_keys=True),
+        law_parameters=json.dumps(_law_parameters(study), sort_keys=True),
+        combinations=int(study.size),
+        unique_runs=int(plan.n_runs),
+        failed_combinations=n_failed,
+        keep_histories=int(study.keep_histories),
+        store=str(plan.store.resolve()),
+        analysis=json.dumps(dataclasses.asdict(study.case.analysis), default=str),
+        pounding_version=__version__,
+        created=datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        Conventions="CF-1.8",
+    )
+    return ds
+
+
+def histories(ds: xr.Dataset, store: str | Path | None = None, **selection: Any) -> xr.Dataset:
+    """Decimated time histories of one combination of a study (``keep_histories = true``).
+
+    ``selection`` picks one value on every axis, e.g. ``law="flores", gap=0.02, record=...``.
+    """
+    key = ds["run_key"].sel(**selection)
+    if key.ndim:
+        raise PoundingInputError(
+            f"histories: select one value on every axis; still free: {', '.join(key.dims)}"
+        )
+    run = open_run(store or ds.attrs["store"], str(key.item()))
+    if not run.attrs.get("has_histories"):
+        raise PoundingInputError(
+            "histories: this run has no time histories (keep_histories = false)"
+        )
+    return run

@@ -1,0 +1,427 @@
+"""The ``[study]`` table: axes, law parameters, records, and the case of each combination."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import hashlib
+import json
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pounding import records
+from pounding._version import __version__
+from pounding.case import Case, CaseError, case_from_dict, read_case_file
+from pounding.contact.laws import get_contact_law
+from pounding.ground_motion import GroundMotion
+
+#: Axes with a meaning of their own; any other axis is a dotted path into the case.
+NAMED_AXES = ("law", "gap", "e", "k", "record", "scale")
+#: Keys of ``[study]`` that are options, not axes.
+STUDY_OPTIONS = ("law_params", "keep_histories", "history_dt")
+#: The ``law`` value that removes every contact (the no-contact baseline).
+NO_CONTACT = "none"
+#: Keys a ``[study.law_params.LAW]`` table may set.
+LAW_PARAM_KEYS = ("k", "e", "n", "a", "delta_m", "calibration")
+# A stand-in [ground_motion] used while the record comes from the `record` axis (never integrated).
+_PLACEHOLDER_MOTION = {"type": "sine_pulse", "duration": 0.01, "dt": 0.005}
+
+
+#: Time-history variables kept per run with ``keep_histories = true``.
+HISTORY_VARIABLES = ("displacement", "contact_force", "penetration", "energy")
+# Kept histories are for plots: single precision, compressed (about 0.2 MB per 2000 steps).
+_HISTORY_ENCODING = {"dtype": "float32", "zlib": True, "complevel": 4, "shuffle": True}
+
+
+class StudyError(CaseError):
+    """A ``[study]`` table is malformed or one of its combinations is invalid."""
+
+
+# --------------------------------------------------------------------------------------------------
+# The study definition
+# --------------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Record:
+    """One value of the ``record`` axis: a ground motion, or the error that prevented reading it."""
+
+    name: str
+    reference: str
+    motion: GroundMotion | None
+    error: str = ""
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Study:
+    """A validated study: the base case, the axes in order, and the options.
+
+    ``axes`` maps each axis name to its values; the ``record`` axis (always present: the case's own
+    ground motion when the study does not sweep records) holds :class:`Record` objects.
+    """
+
+    case: Case
+    axes: dict[str, tuple[Any, ...]]
+    law_params: dict[str, dict[str, Any]]
+    keep_histories: bool = False
+    history_dt: float = 0.02
+    base_dir: Path | None = None
+    source: str = "case"
+    # True when the ground motion is defined per run by the case (ground_motion.* axes)
+    motion_from_case: bool = False
+
+    @property
+    def title(self) -> str:
+        return self.case.title
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(v) for v in self.axes.values())
+
+    @property
+    def size(self) -> int:
+        return math.prod(self.shape)
+
+
+def _flatten(table: Mapping[str, Any], prefix: str = "") -> list[tuple[str, Any]]:
+    """Bare dotted TOML keys arrive as nested tables: turn them back into (dotted path, list)."""
+    out = []
+    for key, value in table.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, Mapping):
+            out.extend(_flatten(value, f"{path}."))
+        else:
+            out.append((path, value))
+    return out
+
+
+def _axis_values(name: str, value: Any, where: str) -> tuple[Any, ...]:
+    if not isinstance(value, list) or not value:
+        raise StudyError(f"{where}: study.{name} = {value!r}; allowed: a non-empty list of values")
+    keys = [json.dumps(v, sort_keys=True, default=str) for v in value]
+    dupes = sorted({k for k in keys if keys.count(k) > 1})
+    if dupes:
+        raise StudyError(f"{where}: study.{name} repeats {', '.join(dupes)}; values must differ")
+    return tuple(value)
+
+
+def _check_number(name: str, values: Sequence[Any], where: str, low: float, what: str) -> None:
+    for v in values:
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v)):
+            raise StudyError(f"{where}: study.{name} value {v!r}; allowed: {what}")
+        if v < low or (low == 0.0 and name != "gap" and v == 0.0):
+            raise StudyError(f"{where}: study.{name} value {v!r}; allowed: {what}")
+
+
+def _law_name(value: Any, where: str) -> str:
+    if value == NO_CONTACT:
+        return NO_CONTACT
+    try:
+        return get_contact_law(str(value)).name
+    except ValueError as exc:
+        raise StudyError(f"{where}: study.law: {exc} (or {NO_CONTACT!r} for no contact)") from None
+
+
+def _parse_law_params(spec: Any, where: str) -> dict[str, dict[str, Any]]:
+    if not isinstance(spec, Mapping):
+        raise StudyError(
+            f"{where}: study.law_params must hold one table per law, e.g. [study.law_params.linear]"
+        )
+    out: dict[str, dict[str, Any]] = {}
+    for law, params in spec.items():
+        name = _law_name(law, where)
+        if name == NO_CONTACT or not isinstance(params, Mapping):
+            raise StudyError(
+                f"{where}: study.law_params.{law} must be a table of contact parameters"
+            )
+        unknown = sorted(set(params) - set(LAW_PARAM_KEYS))
+        if unknown:
+            raise StudyError(
+                f"{where}: study.law_params.{law}: unknown key(s) {', '.join(unknown)}; "
+                f"allowed: {', '.join(LAW_PARAM_KEYS)}"
+            )
+        out[name] = dict(params)
+    return out
+
+
+def _records(refs: Sequence[Any], base: Case, base_dir: Path | None, where: str) -> list[Record]:
+    """Resolve the ``record`` axis; a reference that cannot be read becomes a failed record."""
+    out: list[Record] = []
+    for ref in refs:
+        if isinstance(ref, Mapping):  # an inline [ground_motion]-style table
+            data = {**base.data, "contact": [], "ground_motion": dict(ref)}
+            try:
+                gm = case_from_dict(
+                    data, base_dir=base_dir, source=f"{where}: study.record"
+                ).ground_motion
+            except CaseError as exc:
+                raise StudyError(str(exc)) from None
+            out.append(Record(gm.name, json.dumps(dict(ref), sort_keys=True), gm))
+            continue
+        if not isinstance(ref, str):
+            raise StudyError(
+                f"{where}: study.record value {ref!r}; allowed: a record reference or a "
+                "[ground_motion]-style table"
+            )
+        try:
+            found = records.resolve(ref, base_dir=base_dir)
+        except records.SuiteUnavailableError as exc:
+            raise StudyError(f"{where}: study.record: {exc}") from None
+        except (ValueError, OSError) as exc:
+            out.append(Record(ref, ref, None, f"record {ref!r}: {exc}"))
+            continue
+        for gm in found:
+            out.append(Record(gm.name, str(gm.metadata.get("reference", ref)), gm))
+    names: list[str] = []
+    unique = []
+    for rec in out:
+        name, k = rec.name, 2
+        while name in names:
+            name, k = f"{rec.name} ({k})", k + 1
+        names.append(name)
+        unique.append(dataclasses.replace(rec, name=name))
+    return unique
+
+
+def study_from_dict(
+    data: Mapping[str, Any], *, base_dir: str | Path | None = None, source: str = "case"
+) -> Study:
+    """Build a :class:`Study` from a parsed case mapping that has a ``[study]`` table."""
+    data = copy.deepcopy(dict(data))
+    base_dir = None if base_dir is None else Path(base_dir)
+    spec = data.pop("study", None)
+    if not isinstance(spec, Mapping) or not spec:
+        raise StudyError(f"{source}: no [study] table (see the README for its axes)")
+    law_params = _parse_law_params(spec.get("law_params", {}), source)
+    keep = spec.get("keep_histories", False)
+    if not isinstance(keep, bool):
+        raise StudyError(f"{source}: study.keep_histories = {keep!r}; allowed: true or false")
+    history_dt = spec.get("history_dt", 0.02)
+    if isinstance(history_dt, bool) or not isinstance(history_dt, (int, float)) or history_dt <= 0:
+        raise StudyError(f"{source}: study.history_dt = {history_dt!r}; allowed: a number > 0 [s]")
+
+    axes: dict[str, tuple[Any, ...]] = {}
+    entries = [(k, v) for k, v in spec.items() if k not in STUDY_OPTIONS]
+    for key, value in entries:
+        pairs = [(key, value)] if key in NAMED_AXES else _flatten({key: value})
+        for name, values in pairs:
+            axes[name] = _axis_values(name, values, source)
+    if not axes:
+        raise StudyError(
+            f"{source}: [study] has no axes; give at least one of {', '.join(NAMED_AXES)} "
+            "or a dotted path such as contact.0.k"
+        )
+    if law_params and "law" not in axes:
+        raise StudyError(
+            f"{source}: study.law_params apply when the law axis sets a law; add study.law "
+            "(or set the parameters in the [[contact]] tables)"
+        )
+    if "law" in axes:
+        axes["law"] = tuple(_law_name(v, source) for v in axes["law"])
+        _axis_values("law", list(axes["law"]), source)  # aliases may collide
+        families = {get_contact_law(v).has_exponent for v in axes["law"] if v != NO_CONTACT}
+        if "k" in axes and len(families) > 1:
+            raise StudyError(
+                f"{source}: study.k sets one k for laws whose k has different units (N/m for "
+                "the linear family, N/m^n for the Hertz family); sweep k with laws of one family "
+                "(or drop study.k and give each law its k in [study.law_params.LAW])"
+            )
+    unused = sorted(set(law_params) - set(axes.get("law", ())))
+    if unused:
+        raise StudyError(
+            f"{source}: study.law_params.{unused[0]}: law {unused[0]!r} is not on the law axis"
+        )
+    _check_number("gap", axes.get("gap", ()), source, 0.0, "a number >= 0 [m]")
+    _check_number("e", axes.get("e", ()), source, 0.0, "0 < e <= 1")
+    if any(v > 1 for v in axes.get("e", ())):
+        raise StudyError(f"{source}: study.e values {axes['e']}; allowed: 0 < e <= 1")
+    _check_number("k", axes.get("k", ()), source, 0.0, "a number > 0 [N/m^n]")
+    _check_number("scale", axes.get("scale", ()), source, -math.inf, "a finite number")
+    paths = [a for a in axes if a not in NAMED_AXES]
+    for path in paths:
+        head = path.split(".")[0]
+        if head not in ("building", "contact", "ground_motion", "analysis"):
+            raise StudyError(
+                f"{source}: study axis {path!r}: unknown; allowed: {', '.join(NAMED_AXES)} or a "
+                "dotted path into building, contact, ground_motion or analysis (e.g. contact.0.k)"
+            )
+    motion_from_case = any(p.startswith("ground_motion.") for p in paths)
+    if motion_from_case and ("record" in axes or "scale" in axes):
+        raise StudyError(
+            f"{source}: study axes ground_motion.* cannot be combined with record or scale "
+            "(sweep one or the other)"
+        )
+    if "record" in axes and "ground_motion" not in data:
+        data["ground_motion"] = dict(_PLACEHOLDER_MOTION)
+    try:
+        base = case_from_dict(data, base_dir=base_dir, source=source)
+    except CaseError as exc:
+        raise StudyError(str(exc)) from None
+    if not data.get("contact") and any(a in axes for a in ("gap", "e", "k")):
+        raise StudyError(f"{source}: study axes gap, e and k need at least one [[contact]]")
+    for path in paths:
+        _set_path(copy.deepcopy(data), path, axes[path][0], source)
+    if "record" in axes:
+        recs = _records(axes["record"], base, base_dir, source)
+    else:
+        gm = base.ground_motion
+        recs = [Record(gm.name, str(gm.metadata.get("reference", gm.name)), gm)]
+    study = Study(
+        case=base,
+        axes={**axes, "record": tuple(recs)},
+        law_params=law_params,
+        keep_histories=keep,
+        history_dt=float(history_dt),
+        base_dir=base_dir,
+        source=source,
+        motion_from_case=motion_from_case,
+    )
+    return study
+
+
+def load_study(path: str | Path) -> Study:
+    """Read a case file with a ``[study]`` table (its ``[ground_motion]`` may be omitted when the
+    study sweeps ``record``)."""
+    path = Path(path)
+    return study_from_dict(read_case_file(path), base_dir=path.parent, source=str(path))
+
+
+# --------------------------------------------------------------------------------------------------
+# Combinations -> runs
+# --------------------------------------------------------------------------------------------------
+
+
+def _set_path(data: dict[str, Any], path: str, value: Any, where: str) -> None:
+    """Set ``data[a][b]...`` by a dotted path; list items by their 0-based index."""
+    parts = path.split(".")
+    node: Any = data
+    for depth, part in enumerate(parts):
+        last = depth == len(parts) - 1
+        here = ".".join(parts[: depth + 1])
+        if isinstance(node, list):
+            if not part.isdigit() or int(part) >= len(node):
+                raise StudyError(
+                    f"{where}: study axis {path!r}: {here!r} is not an item of a list of "
+                    f"{len(node)} (indices start at 0)"
+                )
+            key: Any = int(part)
+        elif isinstance(node, dict):
+            if not last and part not in node:
+                raise StudyError(
+                    f"{where}: study axis {path!r}: the case has no {here!r}; "
+                    f"keys there: {', '.join(map(str, node)) or 'none'}"
+                )
+            key = part
+        else:
+            raise StudyError(f"{where}: study axis {path!r}: {here!r} is not a table or a list")
+        if last:
+            node[key] = copy.deepcopy(value)
+        else:
+            node = node[key]
+
+
+def _exponent(contact: Mapping[str, Any], law: Any) -> float:
+    return 1.0 if not law.has_exponent else float(contact.get("n") or law.default_n)
+
+
+def _apply_law(
+    contact: dict[str, Any], law_name: str, params: Mapping[str, Any], k_swept: bool, where: str
+) -> dict[str, Any]:
+    old = get_contact_law(contact.get("law", "linear"))
+    new = get_contact_law(law_name)
+    c = {**contact, "law": new.name, **params}
+    if not new.has_exponent:
+        c.pop("n", None)
+    elif not old.has_exponent and "n" not in params:
+        c.pop("n", None)
+    if "k" not in params and not k_swept and _exponent(contact, old) != _exponent(c, new):
+        raise StudyError(
+            f"{where}: study.law = {new.name!r}: its k is in N/m^{_exponent(c, new):g} but the "
+            f"contact's k is for {old.name!r} (N/m^{_exponent(contact, old):g}); set "
+            f"[study.law_params.{new.name}] k = ..."
+        )
+    return c
+
+
+def _normalise_contact(c: dict[str, Any]) -> dict[str, Any]:
+    """Drop the parameters the contact's law ignores, so such combinations share one run."""
+    law = get_contact_law(c.get("law", "linear"))
+    out = dict(c)
+    if not law.has_damping:
+        out.pop("e", None)
+        out.pop("calibration", None)
+    if not law.is_bilinear:
+        out.pop("a", None)
+        out.pop("delta_m", None)
+    if not law.has_exponent:
+        out.pop("n", None)
+    return out
+
+
+def _combination_data(study: Study, combo: Mapping[str, Any]) -> dict[str, Any]:
+    """The case data of one combination (the record and scale are not part of it)."""
+    data = copy.deepcopy(study.case.data)
+    data.pop("study", None)
+    where = study.source
+    law = combo.get("law")
+    contacts = [dict(c) for c in data.get("contact", [])]
+    if law == NO_CONTACT:
+        contacts = []
+    else:
+        if law is not None:
+            contacts = [
+                _apply_law(c, law, study.law_params.get(law, {}), "k" in combo, where)
+                for c in contacts
+            ]
+        for key in ("gap", "e", "k"):
+            if key in combo:
+                for c in contacts:
+                    c[key] = combo[key]
+    data["contact"] = contacts
+    for path, value in combo.items():
+        if path in NAMED_AXES:
+            continue
+        if path.startswith("contact.") and law == NO_CONTACT:
+            continue
+        _set_path(data, path, value, where)
+    data["contact"] = [_normalise_contact(c) for c in data["contact"]]
+    if not data["contact"]:
+        data.pop("contact")
+    if not study.motion_from_case:
+        data["ground_motion"] = dict(_PLACEHOLDER_MOTION)
+    return data
+
+
+def _fingerprint(gm: GroundMotion | None) -> str:
+    if gm is None:
+        return "case"
+    h = hashlib.sha256(np.ascontiguousarray(gm.acceleration, dtype=float).tobytes())
+    h.update(repr((gm.dt, gm.name)).encode())
+    return h.hexdigest()
+
+
+def run_key(data: Mapping[str, Any], record: Record, scale: float | None) -> str:
+    """Hash of everything that defines a run: case data, record samples, scale, package version."""
+    text = json.dumps(
+        {
+            "case": data,
+            "record": _fingerprint(record.motion) if record.motion is not None else record.error,
+            "scale": scale,
+            "version": __version__,
+        },
+        sort_keys=True,
+        default=str,
+    )
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+def _label(combo: Mapping[str, Any]) -> str:
+    parts = []
+    for name, value in combo.items():
+        value = value.name if isinstance(value, Record) else value
+        parts.append(f"{name}={value!r}" if isinstance(value, str) else f"{name}={value}")
+    return ", ".join(parts)
