@@ -148,7 +148,7 @@ def test_exact_gap_falls_back_to_the_time_history_run_for_overcritical_modes():
     # Rayleigh damping 50 % on modes 1-2 of a 10-story building puts its top modes above critical
     # (ζ_10 ≈ 1.7), where the Nigam-Jennings recurrence does not hold: the Newmark run is used, and
     # gives what a contact-free run at the same step gives at its step ends
-    from pounding.separation import _modal_rows
+    from pounding.separation.pairs import _modal_rows
     from pounding.structure import RayleighDamping
     from pounding.system import Contact, assemble
 
