@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -12,6 +15,8 @@ from pounding.simulate import simulate
 from pounding.structure import ModalDamping, ShearBuilding
 from pounding.system import Contact, assemble
 from pounding.units import G
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -382,3 +387,39 @@ def test_floor_response_spectrum_of_the_roof_matches_an_independent_sdof_solutio
         _, x, _ = signal.lsim(signal.lti([-1.0], [1.0, 2 * 0.05 * w, w * w]), drive, fine)
         ref = w * w * np.abs(x).max()
         assert float(frs.sel(building="A", floor=3).isel(period=i)) == pytest.approx(ref, rel=2e-3)
+
+
+def test_every_dataset_kind_speaks_one_vocabulary(tmp_path):
+    # Analysis, study and separation Datasets take units and long names from one table
+    # (pounding._schema.ATTRS); separately kept tables once disagreed ("natural period" against
+    # "natural period (contacts open)"). Study axes describe the sweep and keep their own.
+    import tomllib
+
+    from test_studies import _study
+
+    from pounding._schema import ATTRS
+    from pounding.case import case_from_dict
+    from pounding.separation import separation_analysis
+    from pounding.studies import run_study
+
+    data = tomllib.loads((ROOT / "examples" / "two_sdof.toml").read_text())
+    data["ground_motion"]["duration"] = 1.0
+    case = case_from_dict(data)
+    study = run_study(_study(gap=[0.005, 0.01]), tmp_path / "runs", jobs=1)
+    kinds = {
+        "analysis": simulate(case),
+        "study": study,
+        "separation": separation_analysis(case),
+    }
+    axes = set(json.loads(study.attrs["axes"]))
+    for kind, ds in kinds.items():
+        checked = 0
+        for name, var in ds.variables.items():
+            if name in ATTRS and not (kind == "study" and name in axes):
+                for key, value in ATTRS[name].items():
+                    assert var.attrs.get(key) == value, (kind, name, key)
+                checked += 1
+        assert checked >= 10, kind
+    assert (
+        kinds["separation"]["natural_period"].attrs["long_name"] == "natural period (contacts open)"
+    )

@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from pounding._schema import ATTRS
+
 ESTIMATES: dict[str, tuple[str, str]] = {
     "time_history": (
         "exact, time history without contact",
@@ -54,85 +56,12 @@ ESTIMATES: dict[str, tuple[str, str]] = {
 #: Statistics over the records.
 STATISTICS = ("median", "p84", "max")
 
-_ATTRS: dict[str, dict[str, str]] = {
-    "record": {"long_name": "ground-motion record"},
-    "pair": {"long_name": "facing pair"},
-    "pair_label": {"long_name": "facing pair (building:floor-building:floor)"},
-    "pair_left": {"long_name": "left end of the facing pair (building or wall)"},
-    "pair_right": {"long_name": "right end of the facing pair (building or wall)"},
-    "pair_left_floor": {"units": "1", "long_name": "floor of the left end (0 = wall)"},
-    "pair_right_floor": {"units": "1", "long_name": "floor of the right end (0 = wall)"},
-    "pair_left_elevation": {"units": "m", "long_name": "elevation of the left end"},
-    "pair_right_elevation": {"units": "m", "long_name": "elevation of the right end"},
-    "pair_interface": {"long_name": "interface (neighbours or building and wall) of the pair"},
-    "pair_same_level": {"units": "1", "long_name": "floors of the pair at the same elevation"},
-    "interface": {"long_name": "interface between neighbours (or a building and a wall)"},
-    "building": {"long_name": "building"},
-    "floor": {"long_name": "floor number (1 = lowest)"},
-    "mode": {"long_name": "mode number"},
-    "estimate": {"long_name": "estimate of the required gap"},
-    "estimate_label": {"long_name": "estimate of the required gap, description"},
-    "estimate_basis": {"long_name": "formula, clause and edition of the estimate"},
-    "statistic": {"long_name": "statistic over the records (median, 84th percentile, maximum)"},
-    "gap": {"units": "m", "long_name": "clear gap at rest"},
-    "natural_period": {"units": "s", "long_name": "natural period"},
-    "modal_damping_ratio": {"units": "1", "long_name": "modal damping ratio"},
-    "spectral_displacement": {"units": "m", "long_name": "spectral displacement Sd(T_n, zeta_n)"},
-    "peak_displacement_time_history": {
-        "units": "m",
-        "long_name": "peak floor displacement, time history without contact",
-    },
-    "peak_displacement_srss": {
-        "units": "m",
-        "long_name": "peak floor displacement, spectral, SRSS over modes",
-    },
-    "peak_displacement_cqc": {
-        "units": "m",
-        "long_name": "peak floor displacement, spectral, CQC over modes",
-    },
-    "exact_gap": {
-        "units": "m",
-        "long_name": "minimum gap avoiding contact (max over time of u_left - u_right)",
-    },
-    "pair_correlation": {
-        "units": "1",
-        "long_name": "CQC correlation of the fundamental modes of the pair's buildings (DDC)",
-    },
-    "required_gap_pair": {"units": "m", "long_name": "required gap of each facing pair"},
-    "required_gap": {
-        "units": "m",
-        "long_name": "required gap (largest over the interface's pairs)",
-    },
-    "required_gap_statistic": {
-        "units": "m",
-        "long_name": "required gap, statistic over the records",
-    },
-    "pounding_probability": {
-        "units": "1",
-        "long_name": "fraction of records with contact (empirical probability of pounding)",
-    },
-    "pounding_probability_lognormal": {
-        "units": "1",
-        "long_name": "probability of pounding, lognormal fit of the exact gaps",
-    },
-    "lognormal_median": {"units": "m", "long_name": "median of the lognormal fit of the exact gap"},
-    "lognormal_beta": {"units": "1", "long_name": "logarithmic standard deviation of the fit"},
-    "lognormal_fraction": {
-        "units": "1",
-        "long_name": "fraction of records whose exact gap is positive",
-    },
-    "gap_for_target_probability": {
-        "units": "m",
-        "long_name": "gap with the target probability of pounding (lognormal fit)",
-    },
-    "case_gap": {"units": "m", "long_name": "gap of the case's contacts (smallest per interface)"},
-}
-
 
 def _apply_attrs(ds: xr.Dataset) -> None:
+    # the package's one vocabulary of units and long names (pounding._schema.ATTRS)
     for name in ds.variables:
-        if name in _ATTRS:
-            ds[name].attrs.update(_ATTRS[name])
+        if name in ATTRS:
+            ds[name].attrs.update(ATTRS[name])
 
 
 def _pair_coords(pairs: Sequence[Any]) -> dict[str, Any]:

@@ -214,18 +214,6 @@ def _record_variables(records_: Sequence[Record]) -> dict[str, tuple]:
     }
 
 
-_RECORD_ATTRS = {
-    "record_acceleration": {"units": "m/s^2", "long_name": "ground acceleration of the record"},
-    "record_dt": {"units": "s", "long_name": "record sampling interval"},
-    "record_reference": {"long_name": "record reference"},
-    "record_processing": {"long_name": "processing chain of the record (JSON list)"},
-    "run_status": {"long_name": "run status (ok or failed)"},
-    "run_error": {"long_name": "error message of a failed run"},
-    "run_key": {"long_name": "key of the run in the store"},
-    "baseline_key": {"long_name": "key of the no-contact run in the store"},
-}
-
-
 def _law_parameters(study: Study) -> dict[str, dict[str, Any]]:
     """Parameters of the first contact under each law of the study (for reports)."""
     contacts = study.case.data.get("contact", [])
@@ -362,7 +350,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
             coords[name] = ("contact", values, ATTRS[name])
     ds = xr.Dataset({k: (v[0], v[1]) for k, v in data.items()}, coords=coords)
     for name, value in data.items():
-        ds[name].attrs.update(value[2] or ATTRS.get(name, {}) or _RECORD_ATTRS.get(name, {}))
+        ds[name].attrs.update(value[2] or ATTRS.get(name, {}))
     for name in (
         "record_acceleration",
         "record_dt",
@@ -373,7 +361,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         "run_key",
         "baseline_key",
     ):
-        ds[name].attrs.update(_RECORD_ATTRS[name])
+        ds[name].attrs.update(ATTRS[name])
     n_failed = int((status == "failed").sum())
     ds.attrs.update(
         title=study.title,
