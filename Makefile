@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-setup lint clean
+.PHONY: demo test test-setup lint docs clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -31,8 +31,14 @@ test: $(STAMP) test-setup
 	$(BIN)/python -m pytest -q
 	$(BIN)/python tests/install_check.py
 
+# The documentation site (user guide from the README, the case-file reference, the design, the API from
+# the docstrings with their equations) into docs/_build/html; warnings are errors.
+docs: $(STAMP)
+	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
+	@echo "written docs/_build/html/index.html"
+
 lint: $(STAMP)
 	$(BIN)/ruff check . && $(BIN)/ruff format --check .
 
 clean:
-	rm -rf $(VENV) .pytest_cache build *.egg-info
+	rm -rf $(VENV) .pytest_cache build *.egg-info docs/_build

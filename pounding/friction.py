@@ -103,7 +103,7 @@ def coulomb_stick_slip_kernel(force_to_stick, normal, p):
     """Exact Coulomb stick test [6], [7]: ``(stuck, f)`` at v = 0.
 
     ``force_to_stick`` is the friction force [N] that keeps the slip acceleration zero (p in
-    m v̇ = p − f). Stuck while |force_to_stick| <= mu_s N, friction then equals it; otherwise slip
+    m v̇ = p − f). Stuck while ``|force_to_stick| <= mu_s N``, friction then equals it; otherwise slip
     starts towards sign(force_to_stick) against f = mu_d N sign(force_to_stick). p as in
     :func:`coulomb_kernel`.
     """
@@ -127,7 +127,7 @@ def viscous_normal_kernel(v, normal, p):
 def stribeck_kernel(v, normal, p):
     r"""Drake's piecewise-quintic Stribeck law [5]; p = [mu_s, mu_d, v_s].
 
-    With x = |v|/v_s and s(x) = 10x³ − 15x⁴ + 6x⁵: μ = μ_s s(x) for x < 1,
+    With :math:`x = |v|/v_s` and s(x) = 10x³ − 15x⁴ + 6x⁵: μ = μ_s s(x) for x < 1,
     μ_s − (μ_s − μ_d) s((x − 1)/2) for 1 <= x < 3, μ_d beyond; f = μ N sign(v).
     """
     n = normal if normal > 0.0 else 0.0
@@ -475,7 +475,7 @@ def coulomb_stick_slip(force_to_stick, *, normal, mu_s: float, mu_d: float):
     where p = ``force_to_stick`` is the friction force that would keep the slip acceleration zero,
     i.e. the resultant of all other forces on the sliding body along the slide (m v̇ = p − f). When
     slipping, the body accelerates towards sign(p). The break-away event of an ivp integration is
-    :func:`coulomb_stick_force_limit` − |p| = 0; re-sticking is tested when v returns to 0.
+    :func:`coulomb_stick_force_limit` − :math:`|p|` = 0; re-sticking is tested when v returns to 0.
 
     Parameters
     ----------
@@ -556,7 +556,7 @@ def stribeck(v, *, normal, mu_s: float, mu_d: float, v_s: float = 1.0e-3):
         \mu_s - (\mu_s - \mu_d)\, s\!\left(\tfrac{x-1}{2}\right) & 1 \le x < 3 \\
         \mu_d & x \ge 3 \end{cases},\quad f = \mu N\,\mathrm{sign}(v)
 
-    C² continuous; f = μ_s N exactly at |v| = v_s and μ_d N from 3 v_s on. This is Drake's
+    C² continuous; f = μ_s N exactly at :math:`|v| = v_s` and μ_d N from 3 v_s on. This is Drake's
     MultibodyPlant Stribeck model [5]; the classical exponential (Bo-Pavelescu) Stribeck curve with a
     tanh regularisation is :func:`andersson` [1].
 
@@ -701,7 +701,7 @@ def constantinou(
     v_reg : float, default 1e-3
         Regularisation speed of the rigid-plastic form [m/s], > 0.
     z : array_like, optional
-        Bouc-Wen variable [-], |z| <= 1 in steady sliding.
+        Bouc-Wen variable [-], ``|z| <= 1`` in steady sliding.
 
     Returns
     -------

@@ -94,7 +94,7 @@ class AnalysisOptions:
     rtol, atol : float
         ``solve_ivp`` tolerances.
     tol : float
-        Newton tolerance on the displacement increment, relative to max(|u|, 1 mm).
+        Newton tolerance on the displacement increment, relative to ``max(|u|, 1 mm)``.
     max_iter, max_halvings : int
         Newton iterations per step; step halvings allowed when Newton fails.
     locate_onset : bool

@@ -7,15 +7,15 @@ line and what was expected.
 
 Formats (:data:`RECORD_FORMATS`, detected from the header first, then the extension):
 
-============  ===============================================  ======================  =======
-name          what                                             extensions              write
-============  ===============================================  ======================  =======
-``peer``      PEER NGA ``.AT2`` (both header styles), ``.VT2``  .at2 .vt2 .dt2          yes
-              velocity, ``.DT2`` displacement
-``cosmos``    COSMOS V2 single channel (``.V2c``)              .v2c .v2                no
-``knet``      K-NET / KiK-net ASCII                            .ns .ew .ud .ns1 ...    no
-``text``      one column (dt given) or two columns (t, a)       .txt .csv .dat .acc     yes
-============  ===============================================  ======================  =======
+===========  =================================================  =====================  ======
+name         what                                               extensions             write
+===========  =================================================  =====================  ======
+``peer``     PEER NGA ``.AT2`` (both header styles), ``.VT2``   .at2 .vt2 .dt2         yes
+             velocity, ``.DT2`` displacement
+``cosmos``   COSMOS V2 single channel (``.V2c``)                .v2c .v2               no
+``knet``     K-NET / KiK-net ASCII                              .ns .ew .ud .ns1 ...   no
+``text``     one column (dt given) or two columns (t, a)        .txt .csv .dat .acc    yes
+===========  =================================================  =====================  ======
 
 Record references (:func:`resolve`), one syntax for case files, the CLI and studies:
 

@@ -106,7 +106,7 @@ def combine_modes(contributions: Any, periods: Any, dampings: Any, rule: str = "
 
 
 def abs_gap(u_a: Any, u_b: Any) -> np.ndarray:
-    r"""Absolute-sum separation S = |u_A| + |u_B| [m] ([3]_, [4]_): the two peaks in opposite phase."""
+    r"""Absolute-sum separation :math:`S = |u_A| + |u_B|` [m] ([3]_, [4]_): the two peaks in opposite phase."""
     return np.abs(np.asarray(u_a, float)) + np.abs(np.asarray(u_b, float))
 
 
@@ -132,7 +132,7 @@ def ddc_gap(
 
     with ρ_AB the CQC correlation (:func:`cqc_correlation`) of the two buildings' fundamental periods
     and damping ratios ([3]_, [4]_). Equal periods and damping give ρ = 1 and
-    S = |u_A − u_B| (the buildings move in phase); widely separated periods give ρ → 0 and the SRSS.
+    :math:`S = |u_A - u_B|` (the buildings move in phase); widely separated periods give ρ → 0 and the SRSS.
 
     Parameters
     ----------
