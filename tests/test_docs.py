@@ -30,4 +30,7 @@ def test_make_docs_builds_the_site_with_warnings_as_errors(tmp_path):
     assert "hunt_crossley_kernel" in laws and 'class="math' in laws
     guide = (out / "guide.html").read_text()
     text = " ".join(re.sub(r"<[^>]+>", " ", guide).split())
-    assert "pounding run examples/three_vs_eight_story.toml -o out.nc" in text and "demo_amplification.png" in guide
+    assert (
+        "pounding run examples/three_vs_eight_story.toml -o out.nc" in text
+        and "demo_amplification.png" in guide
+    )
