@@ -23,6 +23,9 @@ _PACKAGE = Path(__file__).resolve().parent
 COMPILED_SOURCES = (
     "_numba.py",
     "integrators/_kernels.py",
+    "integrators/_dispatch.py",
+    "integrators/_events.py",
+    "integrators/_linalg.py",
     "integrators/ivp.py",
     "integrators/sdof.py",
     "contact/laws.py",

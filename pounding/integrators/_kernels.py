@@ -1,143 +1,48 @@
-"""Compiled kernels of the Newmark/HHT time loop and the compiled dispatch of the laws."""
+"""Compiled kernels of the Newmark/HHT time loop: impact log layout, element evaluation, residual and
+tangent, Newton, the linear and condensed contact steps, events and the loop itself (the law dispatch,
+the event helpers and the linear algebra live in ``_dispatch``, ``_events`` and ``_linalg``)."""
 
 from __future__ import annotations
 
-from pounding._numba import jit, jit_inline  # noqa: F401  (re-exported: the kernels' decorators)
-
-# --------------------------------------------------------------------------------------------------
-# Contact laws: compiled from the single definitions in pounding.contact.laws
-# --------------------------------------------------------------------------------------------------
-from pounding.contact import laws as _laws  # noqa: E402
-
-_linear = jit(_laws.linear_kernel)
-_kelvin = jit(_laws.kelvin_kernel)
-_kelvin_approach = jit(_laws.kelvin_approach_kernel)
-_hertz = jit(_laws.hertz_kernel)
-_hertz_kelvin = jit(_laws.hertz_kelvin_kernel)
-_hunt_crossley = jit(_laws.hunt_crossley_kernel)
-_jankowski = jit(_laws.jankowski_kernel)
-_bilinear = jit(_laws.bilinear_kernel)
-_stored = jit(_laws.stored_energy)
-bilinear_rate = jit(_laws.bilinear_rate)
-
-BILINEAR_ID = _laws.CONTACT_LAWS["bilinear"].kernel_id
-
-
-@jit_inline
-def contact_eval(law, d, dd, v0, d_prev, f_prev, p):
-    """Force and tangents of the law with kernel id ``law`` (ids of pounding.contact.laws.LAWS_BY_ID)."""
-    if law == 0:
-        return _linear(d, dd, v0, d_prev, f_prev, p)
-    if law == 1:
-        return _kelvin(d, dd, v0, d_prev, f_prev, p)
-    if law == 2:
-        return _kelvin_approach(d, dd, v0, d_prev, f_prev, p)
-    if law == 3:
-        return _hertz(d, dd, v0, d_prev, f_prev, p)
-    if law == 4:
-        return _hertz_kelvin(d, dd, v0, d_prev, f_prev, p)
-    if law <= 9:  # the Hunt-Crossley family shares one kernel
-        return _hunt_crossley(d, dd, v0, d_prev, f_prev, p)
-    if law == 10:
-        return _jankowski(d, dd, v0, d_prev, f_prev, p)
-    return _bilinear(d, dd, v0, d_prev, f_prev, p)
-
-
-@jit
-def contact_stored_energy(law, d, f, p):
-    """Recoverable energy [J] of a gap element (see pounding.contact.laws.stored_energy)."""
-    return _stored(law == BILINEAR_ID, d, f, p)
-
-
-# --------------------------------------------------------------------------------------------------
-# Friction laws: compiled from the single definitions in pounding.friction
-# --------------------------------------------------------------------------------------------------
-import math  # noqa: E402
-
-from pounding import friction as _friction  # noqa: E402
-from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB  # noqa: E402
-
-_FR_ID = {law.name: law.kernel_id for law in _friction.LAWS_BY_ID}
-FR_COULOMB_ID = _FR_ID["coulomb"]
-FR_VISCOUS_ID = _FR_ID["viscous"]
-FR_VISCOUS_NORMAL_ID = _FR_ID["viscous_normal"]
-FR_STRIBECK_ID = _FR_ID["stribeck"]
-FR_ANDERSSON_ID = _FR_ID["andersson"]
-FR_BROWN_MCPHEE_ID = _FR_ID["brown_mcphee"]
-
-_fr_coulomb = jit(_friction.coulomb_kernel)
-_fr_viscous = jit(_friction.viscous_kernel)
-_fr_viscous_normal = jit(_friction.viscous_normal_kernel)
-_fr_stribeck = jit(_friction.stribeck_kernel)
-_fr_andersson = jit(_friction.andersson_kernel)
-_fr_brown_mcphee = jit(_friction.brown_mcphee_kernel)
-_fr_constantinou = jit(_friction.constantinou_kernel)
-_fr_constantinou_bw = jit(_friction.constantinou_bouc_wen_kernel)
-bouc_wen_rate = jit(_friction.bouc_wen_rate)
-
-#: Bouc-Wen slides are integrated with RK4 sub-steps of at most this fraction of u_y.
-BW_SUBSTEP = 0.125
-
-
-@jit
-def friction_eval(law, v, normal, p):
-    """Force [N] and ∂f/∂v [N s/m] of the friction law with kernel id ``law`` (ids of
-    pounding.friction.LAWS_BY_ID) at sliding speed v [m/s] and normal force [N]."""
-    if law == FR_COULOMB_ID:
-        return _fr_coulomb(v, normal, p)
-    if law == FR_VISCOUS_ID:
-        return _fr_viscous(v, normal, p)
-    if law == FR_VISCOUS_NORMAL_ID:
-        return _fr_viscous_normal(v, normal, p)
-    if law == FR_STRIBECK_ID:
-        return _fr_stribeck(v, normal, p)
-    if law == FR_ANDERSSON_ID:
-        return _fr_andersson(v, normal, p)
-    if law == FR_BROWN_MCPHEE_ID:
-        return _fr_brown_mcphee(v, normal, p)
-    return _fr_constantinou(v, normal, p)
-
-
-@jit
-def friction_hysteretic_eval(law, v, normal, z, p):
-    """(f, ∂f/∂v, ∂f/∂z) of a law with a Bouc-Wen variable z (only ``constantinou`` has one)."""
-    return _fr_constantinou_bw(v, normal, z, p)
-
-
-@jit
-def _bouc_wen_slope(z, s, bw):
-    """dz/du [1/m] of a slide in direction s = ±1: Bouc-Wen is rate independent, dz/du = ż/u̇."""
-    return bouc_wen_rate(z, s, bw)[0] * s
-
-
-@jit
-def bouc_wen_slide(z0, du, bw):
-    """(z1, dz1/d du): the Bouc-Wen variable after a monotonic slide du [m] from z0.
-
-    ż/u̇ depends on z and the direction only (rate independence, Wen 1976), so z1 follows from
-    dz/du = Φ(z, sign du) integrated over du with classical RK4 sub-steps of at most BW_SUBSTEP u_y,
-    and ∂z1/∂du = Φ(z1) (the flow of an autonomous equation). Exact in the limit of small
-    sub-steps whatever du/u_y, unlike a single trapezoidal or backward-Euler update."""
-    s = 1.0 if du >= 0.0 else -1.0
-    m = int(math.ceil(abs(du) / (BW_SUBSTEP * bw[0])))
-    m = max(1, min(m, 100000))
-    hu = du / m
-    z = z0
-    for _ in range(m):
-        k1 = _bouc_wen_slope(z, s, bw)
-        k2 = _bouc_wen_slope(z + 0.5 * hu * k1, s, bw)
-        k3 = _bouc_wen_slope(z + 0.5 * hu * k2, s, bw)
-        k4 = _bouc_wen_slope(z + hu * k3, s, bw)
-        z += hu * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
-    return z, _bouc_wen_slope(z, s, bw)
-
+import math
 
 # --------------------------------------------------------------------------------------------------
 # Newmark / HHT-alpha time loop
 # --------------------------------------------------------------------------------------------------
 import numpy as np  # noqa: E402
 
+from pounding._numba import jit, jit_inline  # noqa: F401  (re-exported: the kernels' decorators)
+
+# The kernels' parts, by concern; names re-exported here for the integrators and the tests.
+from pounding.integrators._dispatch import (  # noqa: F401
+    BILINEAR_ID,
+    bilinear_rate,
+    bouc_wen_rate,
+    bouc_wen_slide,
+    contact_eval,
+    contact_stored_energy,
+    friction_eval,
+    friction_hysteretic_eval,
+)
+from pounding.integrators._events import _hermite, first_drop, ground_at, hermite_root  # noqa: F401
+from pounding.integrators._linalg import (  # noqa: F401
+    _band_bilinear,
+    _band_inverse,
+    _band_matvec_add,
+    _band_quadratic,
+    _dense_matvec_add,
+    _gauss_solve,
+    _mv,
+    _solve_small,
+    _transpose,
+    _woodbury_solve,
+    band_ldl,
+    band_solve,
+    bandwidth,
+    to_band,
+)
 from pounding.integrators.base import PATH_POINTS  # noqa: E402
+from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB
 
 #: Layout of the float row of the impact log.
 IMP_START, IMP_END, IMP_V0, IMP_VEND, IMP_FMAX, IMP_DMAX, IMP_IMPULSE = range(7)
@@ -212,89 +117,6 @@ def path_add(row, d, f, last):
 
 
 @jit
-def ground_at(ag, ag_dt, t):
-    """Ground acceleration at t, linear between samples, 0 after the record."""
-    x = t / ag_dt
-    i = int(x)
-    if i >= ag.size - 1:
-        return ag[-1] if x <= ag.size - 1 + 1e-9 else 0.0
-    if i < 0:
-        return 0.0
-    w = x - i
-    return (1.0 - w) * ag[i] + w * ag[i + 1]
-
-
-@jit
-def hermite_root(d0, v0, d1, v1, h):
-    """θ in [0, 1] where the cubic Hermite interpolant of (d0, v0) -> (d1, v1) over h first crosses 0,
-    and its derivative there. Assumes d0 <= 0 < d1 or d0 > 0 >= d1 (a sign change)."""
-    lo, hi = 0.0, 1.0
-    f_lo = d0
-    th = 0.5
-    for _ in range(60):
-        th = 0.5 * (lo + hi)
-        t2 = th * th
-        t3 = t2 * th
-        f = (2 * t3 - 3 * t2 + 1) * d0 + (t3 - 2 * t2 + th) * h * v0 + (-2 * t3 + 3 * t2) * d1
-        f += (t3 - t2) * h * v1
-        if (f > 0.0) == (f_lo > 0.0):
-            lo = th
-            f_lo = f
-        else:
-            hi = th
-        if hi - lo < 1e-13:
-            break
-    th = 0.5 * (lo + hi)
-    t2 = th * th
-    dv = (6 * t2 - 6 * th) * d0 / h + (3 * t2 - 4 * th + 1) * v0 + (-6 * t2 + 6 * th) * d1 / h
-    dv += (3 * t2 - 2 * th) * v1
-    return th, dv
-
-
-@jit
-def _hermite(g0, s0, g1, s1, h, th):
-    """The cubic Hermite interpolant of (g0, slope s0) -> (g1, s1) over h at θ."""
-    t2 = th * th
-    t3 = t2 * th
-    return (
-        (2 * t3 - 3 * t2 + 1) * g0
-        + (t3 - 2 * t2 + th) * h * s0
-        + (-2 * t3 + 3 * t2) * g1
-        + (t3 - t2) * h * s1
-    )
-
-
-@jit
-def first_drop(g0, s0, g1, s1, h):
-    """θ in (0, 1] where the Hermite cubic of (g0 >= 0, s0) -> (g1 <= 0, s1) first falls to 0.
-
-    Unlike :func:`hermite_root` it allows g0 = 0 with s0 > 0 (a slab that just started sliding and
-    turns back inside the step): the cubic is scanned for its first fall from > 0 to <= 0."""
-    lo = 0.0
-    hi = 1.0
-    prev_pos = g0 > 0.0
-    for j in range(1, 33):
-        th = j / 32.0
-        pos = _hermite(g0, s0, g1, s1, h, th) > 0.0
-        if prev_pos and not pos:
-            lo = (j - 1) / 32.0
-            hi = th
-            break
-        if pos:
-            prev_pos = True
-            lo = th
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        if _hermite(g0, s0, g1, s1, h, mid) > 0.0:
-            lo = mid
-        else:
-            hi = mid
-        if hi - lo < 1e-13:
-            break
-    return hi
-
-
-@jit
 def _eval_contacts(u1, v1, el_dof, el_sign, el_gap, el_law, el_params, el_in, el_v0, el_hd, el_hf,
                    el_off, d, dd, f, kd, cd):  # fmt: skip
     """δ, δ̇ (the system's sign arrays), force and tangents of every element at (u1, v1).
@@ -364,72 +186,6 @@ def _eval_friction(u, u1, v1, c1, fr_dof, fr_kind, fr_law, fr_params, fr_bw, fr_
 
 
 @jit
-def bandwidth(M, C, K):
-    """Half bandwidth of the pattern of M, C and K (0 for diagonal; n − 1 when dense)."""
-    n = M.shape[0]
-    bw = 0
-    for i in range(n):
-        for j in range(n):
-            if abs(i - j) > bw and (M[i, j] != 0.0 or C[i, j] != 0.0 or K[i, j] != 0.0):
-                bw = abs(i - j)
-    return bw
-
-
-@jit
-def to_band(A, bw):
-    """Band rows of A: Ab[i, k] = A[i, i − bw + k], k = 0..2 bw."""
-    n = A.shape[0]
-    Ab = np.zeros((n, 2 * bw + 1))
-    for i in range(n):
-        for k in range(2 * bw + 1):
-            j = i - bw + k
-            if 0 <= j < n:
-                Ab[i, k] = A[i, j]
-    return Ab
-
-
-@jit
-def _band_matvec_add(Ab, bw, x, scale, out):
-    """out += scale * A x for A in band rows: O(n bw), linear in the size of a shear-building row."""
-    n = x.size
-    for i in range(n):
-        acc = 0.0
-        for k in range(max(0, bw - i), min(2 * bw + 1, n - i + bw)):
-            acc += Ab[i, k] * x[i - bw + k]
-        out[i] += scale * acc
-
-
-@jit
-def _band_quadratic(AbT, bw, x):
-    """xᵀ A x for A given by its diagonals, ``AbT`` = band rows transposed ((2 bw + 1) × n,
-    contiguous), one diagonal at a time: each a unit-stride loop the compiler vectorises (row-wise
-    loops with clipped bounds cost several times more at these sizes)."""
-    n = x.size
-    total = 0.0
-    for k in range(2 * bw + 1):
-        off = k - bw
-        acc = 0.0
-        for i in range(max(0, -off), min(n, n - off)):
-            acc += AbT[k, i] * x[i] * x[i + off]
-        total += acc
-    return total
-
-
-@jit
-def _band_bilinear(AbT, bw, x, y):
-    """xᵀ A y for A given by its diagonals (as :func:`_band_quadratic`)."""
-    n = x.size
-    total = 0.0
-    for k in range(2 * bw + 1):
-        off = k - bw
-        acc = 0.0
-        for i in range(max(0, -off), min(n, n - off)):
-            acc += AbT[k, i] * x[i] * y[i + off]
-        total += acc
-    return total
-
-
-@jit
 def _residual(Mb, Cb, Kb, bw, Mi, g, u, v, a, el_dof, el_sign, f, n_el, fr_state, r):
     """r = M a + C v + K u + Bᵀ f + f_friction + M ι a_g: what the state fails the equation of
     motion by at one instant (zero for Newmark's end-of-step states; the α-weighted lag of HHT)."""
@@ -448,48 +204,6 @@ def _residual(Mb, Cb, Kb, bw, Mi, g, u, v, a, el_dof, el_sign, f, n_el, fr_state
 
 
 @jit
-def band_ldl(Jb, bw):
-    """LDLᵀ factors of a symmetric positive definite band matrix given by band rows (no pivoting is
-    needed: the Newmark tangent c0 M + w(c1 C + K) is SPD). L[i, k] holds L(i, i − bw + k), k < bw;
-    D is returned as the inverse pivots."""
-    n = Jb.shape[0]
-    L = np.zeros((n, bw + 1))
-    D = np.zeros(n)
-    for j in range(n):
-        s = Jb[j, bw]
-        for k in range(max(0, j - bw), j):
-            lk = L[j, k - j + bw]
-            s -= lk * lk * D[k]
-        D[j] = s
-        for i in range(j + 1, min(n, j + bw + 1)):
-            s = Jb[i, j - i + bw]
-            for k in range(max(0, i - bw), j):
-                s -= L[i, k - i + bw] * L[j, k - j + bw] * D[k]
-            L[i, j - i + bw] = s / D[j]
-    for j in range(n):
-        D[j] = 1.0 / D[j]  # stored inverted: the solve multiplies
-    return L, D
-
-
-@jit
-def band_solve(L, D, bw, r, x):
-    """x = (L D⁻¹ Lᵀ)⁻¹ r in O(n bw), D holding the inverse pivots (x and r distinct arrays)."""
-    n = r.size
-    for i in range(n):
-        s = r[i]
-        for j in range(max(0, i - bw), i):
-            s -= L[i, j - i + bw] * x[j]
-        x[i] = s
-    for i in range(n):
-        x[i] *= D[i]
-    for i in range(n - 1, -1, -1):
-        s = x[i]
-        for j in range(i + 1, min(n, i + bw + 1)):
-            s -= L[j, i - j + bw] * x[j]
-        x[i] = s
-
-
-@jit
 def _tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha):
     """Band rows of the Newmark/HHT tangent without contacts, c0 M + (1 + α)(c1 C + K)."""
     c0 = 1.0 / (beta * hs * hs)
@@ -500,177 +214,6 @@ def _tangent_band(hs, Mb, Cb, Kb, gamma, beta, alpha):
         for k in range(Mb.shape[1]):
             Jb[i, k] = c0 * Mb[i, k] + w * (c1 * Cb[i, k] + Kb[i, k])
     return Jb
-
-
-@jit
-def _band_inverse(L, D, bw, out):
-    """out = A⁻¹ (dense) from the band LDLᵀ factors of A, one column per unit vector (the setup of a
-    run; explicit loops compile in a fraction of the time of numba's LAPACK bindings)."""
-    n = D.size
-    e = np.zeros(n)
-    x = np.zeros(n)
-    for j in range(n):
-        e[j] = 1.0
-        band_solve(L, D, bw, e, x)
-        e[j] = 0.0
-        for i in range(n):
-            out[i, j] = x[i]
-
-
-@jit
-def _transpose(A):
-    """A contiguous copy of Aᵀ."""
-    out = np.empty((A.shape[1], A.shape[0]))
-    for i in range(A.shape[0]):
-        for j in range(A.shape[1]):
-            out[j, i] = A[i, j]
-    return out
-
-
-@jit
-def _gauss_solve(J, r, x):
-    """x = J⁻¹ r by Gaussian elimination with partial pivoting; J is overwritten (a general square
-    matrix: the tangent with a stuck slab's constraint rows is not symmetric)."""
-    n = r.size
-    b = r.copy()
-    for col in range(n):
-        piv = col
-        for row in range(col + 1, n):
-            if abs(J[row, col]) > abs(J[piv, col]):
-                piv = row
-        if piv != col:
-            for q in range(n):
-                J[col, q], J[piv, q] = J[piv, q], J[col, q]
-            b[col], b[piv] = b[piv], b[col]
-        p = J[col, col]
-        for row in range(col + 1, n):
-            f = J[row, col] / p
-            if f != 0.0:
-                for q in range(col, n):
-                    J[row, q] -= f * J[col, q]
-                b[row] -= f * b[col]
-    for col in range(n - 1, -1, -1):
-        acc = b[col]
-        for q in range(col + 1, n):
-            acc -= J[col, q] * x[q]
-        x[col] = acc / J[col, col]
-
-
-@jit_inline
-def _solve_small(S, m):
-    """Solve the m × m system in S[:m, :m] for the right-hand side in S's last column, in place
-    (Gaussian elimination with partial pivoting). Returns False when it is singular."""
-    rhs_col = S.shape[1] - 1
-    for col in range(m):
-        piv = col
-        for row in range(col + 1, m):
-            if abs(S[row, col]) > abs(S[piv, col]):
-                piv = row
-        if S[piv, col] == 0.0:
-            return False
-        if piv != col:
-            for q in range(m):
-                S[col, q], S[piv, q] = S[piv, q], S[col, q]
-            S[col, rhs_col], S[piv, rhs_col] = S[piv, rhs_col], S[col, rhs_col]
-        for row in range(col + 1, m):
-            f = S[row, col] / S[col, col]
-            for q in range(col, m):
-                S[row, q] -= f * S[col, q]
-            S[row, rhs_col] -= f * S[col, rhs_col]
-    for col in range(m - 1, -1, -1):
-        acc = S[col, rhs_col]
-        for q in range(col + 1, m):
-            acc -= S[col, q] * S[q, rhs_col]
-        S[col, rhs_col] = acc / S[col, col]
-    return True
-
-
-@jit
-def _dense_matvec_add(A, x, scale, out):
-    """out += scale * A x, dense loops (small systems, where band bookkeeping costs more)."""
-    n = x.size
-    for i in range(n):
-        acc = 0.0
-        for j in range(n):
-            acc += A[i, j] * x[j]
-        out[i] += scale * acc
-
-
-@jit
-def _mv(A, Ab, bw, dense, x, scale, out):
-    """out += scale * A x in the cheaper form for the system size."""
-    if dense:
-        _dense_matvec_add(A, x, scale, out)
-    else:
-        _band_matvec_add(Ab, bw, x, scale, out)
-
-
-@jit
-def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
-    """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using J⁻¹ and the Sherman–Morrison–Woodbury identity.
-
-    b_c holds the element's two signs at its dofs; only elements with kc_c != 0 enter, so the small
-    system has the size of the active set. kc_c = inf is a constraint b_cᵀ x = 0 (1/kc = 0: a stuck
-    slab). Returns False when that system is singular."""
-    n = R.size
-    n_el = kc.size
-    if dense:
-        for i in range(n):
-            acc = 0.0
-            for j in range(n):
-                acc += J_inv[i, j] * R[j]
-            y[i] = acc
-    else:
-        band_solve(L, D, bw, R, y)  # J⁻¹ R by the band factors; J⁻¹ columns only at contact dofs
-    for i in range(n):
-        y[i] = -y[i]
-        x[i] = y[i]
-    m = 0
-    for c in range(n_el):
-        if kc[c] == 0.0:
-            continue
-        for i in range(n):
-            z = 0.0
-            for s in range(2):
-                k = el_dof[c, s]
-                if k >= 0:
-                    z += J_inv[i, k] * el_sign[c, s]
-            Z[i, m] = z
-        m += 1
-    if m == 0:
-        return True
-    # S = D⁻¹ + Uᵀ J⁻¹ U with the right-hand side Uᵀ y in its last column
-    rhs_col = S.shape[1] - 1
-    r = 0
-    for c in range(n_el):
-        if kc[c] == 0.0:
-            continue
-        q = 0
-        for c2 in range(n_el):
-            if kc[c2] == 0.0:
-                continue
-            acc = 0.0
-            for s in range(2):
-                k = el_dof[c, s]
-                if k >= 0:
-                    acc += el_sign[c, s] * Z[k, q]
-            S[r, q] = acc + (1.0 / kc[c] if r == q else 0.0)
-            q += 1
-        acc = 0.0
-        for s in range(2):
-            k = el_dof[c, s]
-            if k >= 0:
-                acc += el_sign[c, s] * y[k]
-        S[r, rhs_col] = acc
-        r += 1
-    if not _solve_small(S, m):
-        return False
-    for i in range(n):
-        acc = 0.0
-        for q in range(m):
-            acc += Z[i, q] * S[q, rhs_col]
-        x[i] -= acc
-    return True
 
 
 @jit

@@ -1,0 +1,132 @@
+"""The compiled dispatch of the contact and friction laws: one entry per family, the law chosen by its
+registry id (generated from the single definitions in pounding.contact.laws and pounding.friction)."""
+
+from __future__ import annotations
+
+from pounding._numba import jit, jit_inline
+
+# --------------------------------------------------------------------------------------------------
+# Contact laws: compiled from the single definitions in pounding.contact.laws
+# --------------------------------------------------------------------------------------------------
+from pounding.contact import laws as _laws  # noqa: E402
+
+_linear = jit(_laws.linear_kernel)
+_kelvin = jit(_laws.kelvin_kernel)
+_kelvin_approach = jit(_laws.kelvin_approach_kernel)
+_hertz = jit(_laws.hertz_kernel)
+_hertz_kelvin = jit(_laws.hertz_kelvin_kernel)
+_hunt_crossley = jit(_laws.hunt_crossley_kernel)
+_jankowski = jit(_laws.jankowski_kernel)
+_bilinear = jit(_laws.bilinear_kernel)
+_stored = jit(_laws.stored_energy)
+bilinear_rate = jit(_laws.bilinear_rate)
+
+BILINEAR_ID = _laws.CONTACT_LAWS["bilinear"].kernel_id
+
+
+@jit_inline
+def contact_eval(law, d, dd, v0, d_prev, f_prev, p):
+    """Force and tangents of the law with kernel id ``law`` (ids of pounding.contact.laws.LAWS_BY_ID)."""
+    if law == 0:
+        return _linear(d, dd, v0, d_prev, f_prev, p)
+    if law == 1:
+        return _kelvin(d, dd, v0, d_prev, f_prev, p)
+    if law == 2:
+        return _kelvin_approach(d, dd, v0, d_prev, f_prev, p)
+    if law == 3:
+        return _hertz(d, dd, v0, d_prev, f_prev, p)
+    if law == 4:
+        return _hertz_kelvin(d, dd, v0, d_prev, f_prev, p)
+    if law <= 9:  # the Hunt-Crossley family shares one kernel
+        return _hunt_crossley(d, dd, v0, d_prev, f_prev, p)
+    if law == 10:
+        return _jankowski(d, dd, v0, d_prev, f_prev, p)
+    return _bilinear(d, dd, v0, d_prev, f_prev, p)
+
+
+@jit
+def contact_stored_energy(law, d, f, p):
+    """Recoverable energy [J] of a gap element (see pounding.contact.laws.stored_energy)."""
+    return _stored(law == BILINEAR_ID, d, f, p)
+
+
+# --------------------------------------------------------------------------------------------------
+# Friction laws: compiled from the single definitions in pounding.friction
+# --------------------------------------------------------------------------------------------------
+import math  # noqa: E402
+
+from pounding import friction as _friction  # noqa: E402
+
+_FR_ID = {law.name: law.kernel_id for law in _friction.LAWS_BY_ID}
+FR_COULOMB_ID = _FR_ID["coulomb"]
+FR_VISCOUS_ID = _FR_ID["viscous"]
+FR_VISCOUS_NORMAL_ID = _FR_ID["viscous_normal"]
+FR_STRIBECK_ID = _FR_ID["stribeck"]
+FR_ANDERSSON_ID = _FR_ID["andersson"]
+FR_BROWN_MCPHEE_ID = _FR_ID["brown_mcphee"]
+
+_fr_coulomb = jit(_friction.coulomb_kernel)
+_fr_viscous = jit(_friction.viscous_kernel)
+_fr_viscous_normal = jit(_friction.viscous_normal_kernel)
+_fr_stribeck = jit(_friction.stribeck_kernel)
+_fr_andersson = jit(_friction.andersson_kernel)
+_fr_brown_mcphee = jit(_friction.brown_mcphee_kernel)
+_fr_constantinou = jit(_friction.constantinou_kernel)
+_fr_constantinou_bw = jit(_friction.constantinou_bouc_wen_kernel)
+bouc_wen_rate = jit(_friction.bouc_wen_rate)
+
+#: Bouc-Wen slides are integrated with RK4 sub-steps of at most this fraction of u_y.
+BW_SUBSTEP = 0.125
+
+
+@jit
+def friction_eval(law, v, normal, p):
+    """Force [N] and ∂f/∂v [N s/m] of the friction law with kernel id ``law`` (ids of
+    pounding.friction.LAWS_BY_ID) at sliding speed v [m/s] and normal force [N]."""
+    if law == FR_COULOMB_ID:
+        return _fr_coulomb(v, normal, p)
+    if law == FR_VISCOUS_ID:
+        return _fr_viscous(v, normal, p)
+    if law == FR_VISCOUS_NORMAL_ID:
+        return _fr_viscous_normal(v, normal, p)
+    if law == FR_STRIBECK_ID:
+        return _fr_stribeck(v, normal, p)
+    if law == FR_ANDERSSON_ID:
+        return _fr_andersson(v, normal, p)
+    if law == FR_BROWN_MCPHEE_ID:
+        return _fr_brown_mcphee(v, normal, p)
+    return _fr_constantinou(v, normal, p)
+
+
+@jit
+def friction_hysteretic_eval(law, v, normal, z, p):
+    """(f, ∂f/∂v, ∂f/∂z) of a law with a Bouc-Wen variable z (only ``constantinou`` has one)."""
+    return _fr_constantinou_bw(v, normal, z, p)
+
+
+@jit
+def _bouc_wen_slope(z, s, bw):
+    """dz/du [1/m] of a slide in direction s = ±1: Bouc-Wen is rate independent, dz/du = ż/u̇."""
+    return bouc_wen_rate(z, s, bw)[0] * s
+
+
+@jit
+def bouc_wen_slide(z0, du, bw):
+    """(z1, dz1/d du): the Bouc-Wen variable after a monotonic slide du [m] from z0.
+
+    ż/u̇ depends on z and the direction only (rate independence, Wen 1976), so z1 follows from
+    dz/du = Φ(z, sign du) integrated over du with classical RK4 sub-steps of at most BW_SUBSTEP u_y,
+    and ∂z1/∂du = Φ(z1) (the flow of an autonomous equation). Exact in the limit of small
+    sub-steps whatever du/u_y, unlike a single trapezoidal or backward-Euler update."""
+    s = 1.0 if du >= 0.0 else -1.0
+    m = int(math.ceil(abs(du) / (BW_SUBSTEP * bw[0])))
+    m = max(1, min(m, 100000))
+    hu = du / m
+    z = z0
+    for _ in range(m):
+        k1 = _bouc_wen_slope(z, s, bw)
+        k2 = _bouc_wen_slope(z + 0.5 * hu * k1, s, bw)
+        k3 = _bouc_wen_slope(z + 0.5 * hu * k2, s, bw)
+        k4 = _bouc_wen_slope(z + hu * k3, s, bw)
+        z += hu * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
+    return z, _bouc_wen_slope(z, s, bw)

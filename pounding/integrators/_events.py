@@ -1,0 +1,89 @@
+"""Compiled event helpers of the time loop: the ground motion between samples, the cubic Hermite
+interpolant of a step and the location of its roots and first drop."""
+
+from __future__ import annotations
+
+from pounding._numba import jit
+
+
+@jit
+def ground_at(ag, ag_dt, t):
+    """Ground acceleration at t, linear between samples, 0 after the record."""
+    x = t / ag_dt
+    i = int(x)
+    if i >= ag.size - 1:
+        return ag[-1] if x <= ag.size - 1 + 1e-9 else 0.0
+    if i < 0:
+        return 0.0
+    w = x - i
+    return (1.0 - w) * ag[i] + w * ag[i + 1]
+
+
+@jit
+def hermite_root(d0, v0, d1, v1, h):
+    """θ in [0, 1] where the cubic Hermite interpolant of (d0, v0) -> (d1, v1) over h first crosses 0,
+    and its derivative there. Assumes d0 <= 0 < d1 or d0 > 0 >= d1 (a sign change)."""
+    lo, hi = 0.0, 1.0
+    f_lo = d0
+    th = 0.5
+    for _ in range(60):
+        th = 0.5 * (lo + hi)
+        t2 = th * th
+        t3 = t2 * th
+        f = (2 * t3 - 3 * t2 + 1) * d0 + (t3 - 2 * t2 + th) * h * v0 + (-2 * t3 + 3 * t2) * d1
+        f += (t3 - t2) * h * v1
+        if (f > 0.0) == (f_lo > 0.0):
+            lo = th
+            f_lo = f
+        else:
+            hi = th
+        if hi - lo < 1e-13:
+            break
+    th = 0.5 * (lo + hi)
+    t2 = th * th
+    dv = (6 * t2 - 6 * th) * d0 / h + (3 * t2 - 4 * th + 1) * v0 + (-6 * t2 + 6 * th) * d1 / h
+    dv += (3 * t2 - 2 * th) * v1
+    return th, dv
+
+
+@jit
+def _hermite(g0, s0, g1, s1, h, th):
+    """The cubic Hermite interpolant of (g0, slope s0) -> (g1, s1) over h at θ."""
+    t2 = th * th
+    t3 = t2 * th
+    return (
+        (2 * t3 - 3 * t2 + 1) * g0
+        + (t3 - 2 * t2 + th) * h * s0
+        + (-2 * t3 + 3 * t2) * g1
+        + (t3 - t2) * h * s1
+    )
+
+
+@jit
+def first_drop(g0, s0, g1, s1, h):
+    """θ in (0, 1] where the Hermite cubic of (g0 >= 0, s0) -> (g1 <= 0, s1) first falls to 0.
+
+    Unlike :func:`hermite_root` it allows g0 = 0 with s0 > 0 (a slab that just started sliding and
+    turns back inside the step): the cubic is scanned for its first fall from > 0 to <= 0."""
+    lo = 0.0
+    hi = 1.0
+    prev_pos = g0 > 0.0
+    for j in range(1, 33):
+        th = j / 32.0
+        pos = _hermite(g0, s0, g1, s1, h, th) > 0.0
+        if prev_pos and not pos:
+            lo = (j - 1) / 32.0
+            hi = th
+            break
+        if pos:
+            prev_pos = True
+            lo = th
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _hermite(g0, s0, g1, s1, h, mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-13:
+            break
+    return hi

@@ -1,0 +1,287 @@
+"""Compiled linear algebra of the time loop: band storage, band LDLᵀ and its inverse, small dense
+solves, and the Woodbury solve of the condensed contact step."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pounding._numba import jit, jit_inline
+
+
+@jit
+def bandwidth(M, C, K):
+    """Half bandwidth of the pattern of M, C and K (0 for diagonal; n − 1 when dense)."""
+    n = M.shape[0]
+    bw = 0
+    for i in range(n):
+        for j in range(n):
+            if abs(i - j) > bw and (M[i, j] != 0.0 or C[i, j] != 0.0 or K[i, j] != 0.0):
+                bw = abs(i - j)
+    return bw
+
+
+@jit
+def to_band(A, bw):
+    """Band rows of A: Ab[i, k] = A[i, i − bw + k], k = 0..2 bw."""
+    n = A.shape[0]
+    Ab = np.zeros((n, 2 * bw + 1))
+    for i in range(n):
+        for k in range(2 * bw + 1):
+            j = i - bw + k
+            if 0 <= j < n:
+                Ab[i, k] = A[i, j]
+    return Ab
+
+
+@jit
+def _band_matvec_add(Ab, bw, x, scale, out):
+    """out += scale * A x for A in band rows: O(n bw), linear in the size of a shear-building row."""
+    n = x.size
+    for i in range(n):
+        acc = 0.0
+        for k in range(max(0, bw - i), min(2 * bw + 1, n - i + bw)):
+            acc += Ab[i, k] * x[i - bw + k]
+        out[i] += scale * acc
+
+
+@jit
+def _band_quadratic(AbT, bw, x):
+    """xᵀ A x for A given by its diagonals, ``AbT`` = band rows transposed ((2 bw + 1) × n,
+    contiguous), one diagonal at a time: each a unit-stride loop the compiler vectorises (row-wise
+    loops with clipped bounds cost several times more at these sizes)."""
+    n = x.size
+    total = 0.0
+    for k in range(2 * bw + 1):
+        off = k - bw
+        acc = 0.0
+        for i in range(max(0, -off), min(n, n - off)):
+            acc += AbT[k, i] * x[i] * x[i + off]
+        total += acc
+    return total
+
+
+@jit
+def _band_bilinear(AbT, bw, x, y):
+    """xᵀ A y for A given by its diagonals (as :func:`_band_quadratic`)."""
+    n = x.size
+    total = 0.0
+    for k in range(2 * bw + 1):
+        off = k - bw
+        acc = 0.0
+        for i in range(max(0, -off), min(n, n - off)):
+            acc += AbT[k, i] * x[i] * y[i + off]
+        total += acc
+    return total
+
+
+@jit
+def band_ldl(Jb, bw):
+    """LDLᵀ factors of a symmetric positive definite band matrix given by band rows (no pivoting is
+    needed: the Newmark tangent c0 M + w(c1 C + K) is SPD). L[i, k] holds L(i, i − bw + k), k < bw;
+    D is returned as the inverse pivots."""
+    n = Jb.shape[0]
+    L = np.zeros((n, bw + 1))
+    D = np.zeros(n)
+    for j in range(n):
+        s = Jb[j, bw]
+        for k in range(max(0, j - bw), j):
+            lk = L[j, k - j + bw]
+            s -= lk * lk * D[k]
+        D[j] = s
+        for i in range(j + 1, min(n, j + bw + 1)):
+            s = Jb[i, j - i + bw]
+            for k in range(max(0, i - bw), j):
+                s -= L[i, k - i + bw] * L[j, k - j + bw] * D[k]
+            L[i, j - i + bw] = s / D[j]
+    for j in range(n):
+        D[j] = 1.0 / D[j]  # stored inverted: the solve multiplies
+    return L, D
+
+
+@jit
+def band_solve(L, D, bw, r, x):
+    """x = (L D⁻¹ Lᵀ)⁻¹ r in O(n bw), D holding the inverse pivots (x and r distinct arrays)."""
+    n = r.size
+    for i in range(n):
+        s = r[i]
+        for j in range(max(0, i - bw), i):
+            s -= L[i, j - i + bw] * x[j]
+        x[i] = s
+    for i in range(n):
+        x[i] *= D[i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, min(n, i + bw + 1)):
+            s -= L[j, i - j + bw] * x[j]
+        x[i] = s
+
+
+@jit
+def _band_inverse(L, D, bw, out):
+    """out = A⁻¹ (dense) from the band LDLᵀ factors of A, one column per unit vector (the setup of a
+    run; explicit loops compile in a fraction of the time of numba's LAPACK bindings)."""
+    n = D.size
+    e = np.zeros(n)
+    x = np.zeros(n)
+    for j in range(n):
+        e[j] = 1.0
+        band_solve(L, D, bw, e, x)
+        e[j] = 0.0
+        for i in range(n):
+            out[i, j] = x[i]
+
+
+@jit
+def _transpose(A):
+    """A contiguous copy of Aᵀ."""
+    out = np.empty((A.shape[1], A.shape[0]))
+    for i in range(A.shape[0]):
+        for j in range(A.shape[1]):
+            out[j, i] = A[i, j]
+    return out
+
+
+@jit
+def _gauss_solve(J, r, x):
+    """x = J⁻¹ r by Gaussian elimination with partial pivoting; J is overwritten (a general square
+    matrix: the tangent with a stuck slab's constraint rows is not symmetric)."""
+    n = r.size
+    b = r.copy()
+    for col in range(n):
+        piv = col
+        for row in range(col + 1, n):
+            if abs(J[row, col]) > abs(J[piv, col]):
+                piv = row
+        if piv != col:
+            for q in range(n):
+                J[col, q], J[piv, q] = J[piv, q], J[col, q]
+            b[col], b[piv] = b[piv], b[col]
+        p = J[col, col]
+        for row in range(col + 1, n):
+            f = J[row, col] / p
+            if f != 0.0:
+                for q in range(col, n):
+                    J[row, q] -= f * J[col, q]
+                b[row] -= f * b[col]
+    for col in range(n - 1, -1, -1):
+        acc = b[col]
+        for q in range(col + 1, n):
+            acc -= J[col, q] * x[q]
+        x[col] = acc / J[col, col]
+
+
+@jit_inline
+def _solve_small(S, m):
+    """Solve the m × m system in S[:m, :m] for the right-hand side in S's last column, in place
+    (Gaussian elimination with partial pivoting). Returns False when it is singular."""
+    rhs_col = S.shape[1] - 1
+    for col in range(m):
+        piv = col
+        for row in range(col + 1, m):
+            if abs(S[row, col]) > abs(S[piv, col]):
+                piv = row
+        if S[piv, col] == 0.0:
+            return False
+        if piv != col:
+            for q in range(m):
+                S[col, q], S[piv, q] = S[piv, q], S[col, q]
+            S[col, rhs_col], S[piv, rhs_col] = S[piv, rhs_col], S[col, rhs_col]
+        for row in range(col + 1, m):
+            f = S[row, col] / S[col, col]
+            for q in range(col, m):
+                S[row, q] -= f * S[col, q]
+            S[row, rhs_col] -= f * S[col, rhs_col]
+    for col in range(m - 1, -1, -1):
+        acc = S[col, rhs_col]
+        for q in range(col + 1, m):
+            acc -= S[col, q] * S[q, rhs_col]
+        S[col, rhs_col] = acc / S[col, col]
+    return True
+
+
+@jit
+def _dense_matvec_add(A, x, scale, out):
+    """out += scale * A x, dense loops (small systems, where band bookkeeping costs more)."""
+    n = x.size
+    for i in range(n):
+        acc = 0.0
+        for j in range(n):
+            acc += A[i, j] * x[j]
+        out[i] += scale * acc
+
+
+@jit
+def _mv(A, Ab, bw, dense, x, scale, out):
+    """out += scale * A x in the cheaper form for the system size."""
+    if dense:
+        _dense_matvec_add(A, x, scale, out)
+    else:
+        _band_matvec_add(Ab, bw, x, scale, out)
+
+
+@jit
+def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
+    """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using J⁻¹ and the Sherman–Morrison–Woodbury identity.
+
+    b_c holds the element's two signs at its dofs; only elements with kc_c != 0 enter, so the small
+    system has the size of the active set. kc_c = inf is a constraint b_cᵀ x = 0 (1/kc = 0: a stuck
+    slab). Returns False when that system is singular."""
+    n = R.size
+    n_el = kc.size
+    if dense:
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += J_inv[i, j] * R[j]
+            y[i] = acc
+    else:
+        band_solve(L, D, bw, R, y)  # J⁻¹ R by the band factors; J⁻¹ columns only at contact dofs
+    for i in range(n):
+        y[i] = -y[i]
+        x[i] = y[i]
+    m = 0
+    for c in range(n_el):
+        if kc[c] == 0.0:
+            continue
+        for i in range(n):
+            z = 0.0
+            for s in range(2):
+                k = el_dof[c, s]
+                if k >= 0:
+                    z += J_inv[i, k] * el_sign[c, s]
+            Z[i, m] = z
+        m += 1
+    if m == 0:
+        return True
+    # S = D⁻¹ + Uᵀ J⁻¹ U with the right-hand side Uᵀ y in its last column
+    rhs_col = S.shape[1] - 1
+    r = 0
+    for c in range(n_el):
+        if kc[c] == 0.0:
+            continue
+        q = 0
+        for c2 in range(n_el):
+            if kc[c2] == 0.0:
+                continue
+            acc = 0.0
+            for s in range(2):
+                k = el_dof[c, s]
+                if k >= 0:
+                    acc += el_sign[c, s] * Z[k, q]
+            S[r, q] = acc + (1.0 / kc[c] if r == q else 0.0)
+            q += 1
+        acc = 0.0
+        for s in range(2):
+            k = el_dof[c, s]
+            if k >= 0:
+                acc += el_sign[c, s] * y[k]
+        S[r, rhs_col] = acc
+        r += 1
+    if not _solve_small(S, m):
+        return False
+    for i in range(n):
+        acc = 0.0
+        for q in range(m):
+            acc += Z[i, q] * S[q, rhs_col]
+        x[i] -= acc
+    return True
