@@ -26,6 +26,12 @@ COMPILED_SOURCES = (
     "integrators/_dispatch.py",
     "integrators/_events.py",
     "integrators/_linalg.py",
+    "integrators/_layout.py",
+    "integrators/_coefficients.py",
+    "integrators/_families.py",
+    "integrators/_steps.py",
+    "integrators/_ledger.py",
+    "links.py",
     "integrators/ivp.py",
     "integrators/sdof.py",
     "contact/laws.py",
@@ -86,9 +92,35 @@ _package_locators()
 
 def jit(func):
     """Compile ``func`` in nopython mode, cached on disk; ``func.py_func`` stays the Python original."""
-    return numba.njit(cache=True, fastmath=False)(func)
+    return numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True)(func)
 
 
 def jit_inline(func):
     """:func:`jit`, inlined into its callers by numba (no call boundary to pass arrays across)."""
-    return numba.njit(cache=True, fastmath=False, inline="always")(func)
+    return numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True, inline="always")(func)
+
+
+def jit_setup(func):
+    """:func:`jit` for a function only compiled code calls, that allocates (set-up, refactoring):
+    reference counted, without a CPython entry point."""
+    # _nrt is set, not inherited: numba compiles a callee with its caller's _nrt unless it is set
+    return numba.njit(
+        cache=True, fastmath=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=True
+    )(func)
+
+
+def jit_kernel(func):
+    """:func:`jit` for a kernel that allocates nothing: compiled without numba's reference counting
+    (``_nrt=False``), whose atomic increments on every array of every argument group cost the
+    time loop ~4 µs a step. Arrays it receives stay owned by the caller; allocating inside is a
+    compile error, not a leak."""
+    return numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True, _nrt=False)(func)
+
+
+def jit_internal(func):
+    """:func:`jit_kernel` for a function only compiled code calls: no CPython entry point is
+    generated (unboxing a group of arrays costs compile time), so ``func`` cannot be called from
+    Python."""
+    return numba.njit(
+        cache=True, fastmath=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False
+    )(func)

@@ -44,6 +44,7 @@ from pounding.contact.calibrate import CALIBRATIONS, contact_parameters
 from pounding.contact.laws import N_KERNEL_PARAMS, ContactLaw, get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.friction import BOUC_WEN_PARAMETERS, FRICTION_LAWS
+from pounding.links import N_LINK_PARAMS
 from pounding.structure import ShearBuilding
 
 #: Sign of the left point's displacement in δ.
@@ -176,6 +177,41 @@ class FrictionElements:
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
+class LinkElements:
+    """Coupling links (:mod:`pounding.links`) in the arrays the integrators use, one row per linked
+    floor pair (L in all).
+
+    ``dof``/``sign`` as :class:`GapElements` (δ = s_a u_a + s_b u_b, positive as the floors
+    approach); ``law_id`` link kernel ids; ``params`` (L × :data:`pounding.links.N_LINK_PARAMS`).
+    Labels: ``left``/``right`` building names, ``left_floor``/``right_floor``, ``law`` registry
+    names, ``group`` the index of the :class:`Link` definition the row came from.
+    """
+
+    dof: np.ndarray
+    sign: np.ndarray
+    law_id: np.ndarray
+    params: np.ndarray
+    left: tuple[str, ...] = ()
+    right: tuple[str, ...] = ()
+    left_floor: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, np.int64))
+    right_floor: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, np.int64))
+    law: tuple[str, ...] = ()
+    group: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, np.int64))
+
+    def __len__(self) -> int:
+        return int(self.law_id.size)
+
+    @classmethod
+    def empty(cls) -> LinkElements:
+        return cls(
+            dof=np.zeros((0, 2), np.int64),
+            sign=np.zeros((0, 2)),
+            law_id=np.zeros(0, np.int64),
+            params=np.zeros((0, N_LINK_PARAMS)),
+        )
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
 class PoundingSystem:
     """Buildings in a row (left to right) with gap elements; the assembled linear matrices.
 
@@ -194,6 +230,7 @@ class PoundingSystem:
     story_height: np.ndarray
     base_dof: np.ndarray
     friction: FrictionElements
+    links: LinkElements = dataclasses.field(default_factory=LinkElements.empty)
 
     @property
     def n_dof(self) -> int:

@@ -365,19 +365,23 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
     g1 = np.interp(t + hs, ag_dt * np.arange(4), ag)
     g_eff = w * g1 - alpha * g0
     Mi = M @ iota
-    Q, pg = kn._dense_map(hs, M, C, K, Mi, gamma, beta, alpha)
+    scheme = kn.Scheme(gamma, beta, alpha)
+    cf = kn.newmark_coefficients(hs, scheme)
+    Q, pg = kn.dense_map(hs, M, C, K, Mi, scheme)
     u1, v1, a1 = np.zeros(n), np.zeros(n), np.zeros(n)
-    kn._dense_step(Q, pg, g_eff, hs, gamma, beta, u, v, a, u1, v1, a1)
+    d1, dd1, f1, kd1, cd1 = (np.zeros(n_el) for _ in range(5))
+    tr = kn.Trial(u1, v1, a1, d1, dd1, f1, kd1, cd1)
+    kn.dense_step(Q, pg, g_eff, cf, (u, v, a), tr)
     J = M / (beta * hs**2) + w * (gamma / (beta * hs) * C + K)
     Z, S = np.zeros((n, n_el)), np.zeros((n_el, n_el))
-    kn._condense_map(np.linalg.inv(J), el.el_dof, el.el_sign, Z, S)
-    d1, dd1, f1, kd1, cd1 = (np.zeros(n_el) for _ in range(5))
-    ok, its = kn._contact_step(
-        Z, S, hs, gamma, beta, alpha, u, u1, v1, a1, el.el_dof, el.el_sign, el.el_gap, el.el_law,
-        el.el_params, closed, v0, d0, f0, np.zeros(n_el, dtype=bool), f0, 1e-12, 25,
-        np.zeros((4, n_el)), np.zeros(n_el, dtype=np.int64), np.zeros((n_el, n_el + 1)), d1, dd1,
-        f1, kd1, cd1,
-    )  # fmt: skip
+    kn.condense_map(np.linalg.inv(J), el.el_dof, el.el_sign, Z, S)
+    fac = kn.Factor(np.array([hs]), None, None, None, Z, S, Q, pg)
+    gaps = kn.Gaps(el.el_dof, el.el_sign, el.el_gap, el.el_law, el.el_params, None, None, closed,
+                   v0, d0, f0, None, None, None, f0)  # fmt: skip
+    opts = kn.Options(1e-12, 25, 0, True, 0.0, 0.0, False, 20.0, hs)
+    wk = kn.Work(None, None, None, None, None, None, np.zeros((4, n_el)),
+                 np.zeros(n_el, dtype=np.int64), np.zeros((n_el, n_el + 1)), None, None, None)  # fmt: skip
+    ok, its = kn.contact_step(fac, cf, u, gaps, np.zeros(n_el, dtype=bool), opts, tr, wk)
     assert ok and 1 <= its <= 8
     # the full step equations, independently
     a_new = (u1 - u) / (beta * hs**2) - v / (beta * hs) - (0.5 / beta - 1.0) * a

@@ -130,3 +130,39 @@ def bouc_wen_slide(z0, du, bw):
         k4 = _bouc_wen_slope(z + hu * k3, s, bw)
         z += hu * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
     return z, _bouc_wen_slope(z, s, bw)
+
+
+# --------------------------------------------------------------------------------------------------
+# Element families beyond gaps and friction: compiled from their single definitions
+# --------------------------------------------------------------------------------------------------
+from pounding import links as _links  # noqa: E402
+
+_kelvin_link = jit(_links.kelvin_link_kernel)
+_viscous_link = jit(_links.viscous_link_kernel)
+_maxwell_link = jit(_links.maxwell_link_kernel)
+_kelvin_link_stored = jit(_links.kelvin_link_stored)
+_viscous_link_stored = jit(_links.viscous_link_stored)
+_maxwell_link_stored = jit(_links.maxwell_link_stored)
+
+
+@jit_inline
+def element_eval(kind, law, d, dd, h, s0, s1, p):
+    """Force and tangents (F, ∂F/∂δ, ∂F/∂δ̇) of an element of family ``kind`` with law id ``law``
+    at the end of a step of length h; writes its trial state s1 from the committed s0. The links
+    (pounding.links.FAMILY_LINK) are the one family so far: ``kind`` selects among families once a
+    second one exists."""
+    if law == 0:
+        return _kelvin_link(d, dd, h, s0, s1, p)
+    if law == 1:
+        return _viscous_link(d, dd, h, s0, s1, p)
+    return _maxwell_link(d, dd, h, s0, s1, p)
+
+
+@jit
+def element_stored(kind, law, d, f, s, p):
+    """Recoverable energy [J] of an element at (δ, F, state)."""
+    if law == 0:
+        return _kelvin_link_stored(d, f, s, p)
+    if law == 1:
+        return _viscous_link_stored(d, f, s, p)
+    return _maxwell_link_stored(d, f, s, p)

@@ -143,10 +143,10 @@ def _transpose(A):
 
 @jit
 def _gauss_solve(J, r, x):
-    """x = J⁻¹ r by Gaussian elimination with partial pivoting; J is overwritten (a general square
-    matrix: the tangent with a stuck slab's constraint rows is not symmetric)."""
+    """x = J⁻¹ r by Gaussian elimination with partial pivoting; J and r are overwritten (a general
+    square matrix: the tangent with a stuck slab's constraint rows is not symmetric)."""
     n = r.size
-    b = r.copy()
+    b = r
     for col in range(n):
         piv = col
         for row in range(col + 1, n):

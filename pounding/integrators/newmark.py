@@ -45,6 +45,7 @@ References
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -61,6 +62,7 @@ from pounding.integrators.base import (
     response_scales,
     v0_floor,
 )
+from pounding.links import FAMILY_LINK, N_LINK_STATE
 from pounding.system import PoundingSystem
 
 #: Newton iterations per step and step halvings allowed by default.
@@ -203,6 +205,50 @@ def _remedies(max_iter: int, max_halvings: int, locate_onset: bool, adaptive: bo
     return f"{options}a smaller dt, or a softer contact k"
 
 
+def _f64(x: np.ndarray) -> np.ndarray:
+    """C-contiguous float64: one compiled specialisation of the kernels serves every run."""
+    return np.ascontiguousarray(x, dtype=np.float64)
+
+
+def _i64(x: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(x, dtype=np.int64)
+
+
+@dataclass(frozen=True)
+class ElementFamilyRows:
+    """The element-family rows of a system (links, ...): family kind and law id per element, its
+    two dofs and signs, parameters; state rows of ``n_state`` columns start at zero."""
+
+    kind: np.ndarray
+    law: np.ndarray
+    dof: np.ndarray
+    sign: np.ndarray
+    params: np.ndarray
+    n_state: int
+
+    def fresh(self) -> kn.Elements:
+        """The compiled core's group, with zeroed committed and trial state."""
+        m = len(self.kind)
+        z = np.zeros(m)
+        return kn.Elements(_i64(self.kind), _i64(self.law), _i64(self.dof), _f64(self.sign),
+                           _f64(self.params), np.zeros((m, self.n_state)),
+                           np.zeros((m, self.n_state)), z, z.copy(), z.copy(), z.copy(),
+                           z.copy(), z.copy(), z.copy())  # fmt: skip
+
+
+def element_families(system: PoundingSystem) -> ElementFamilyRows:
+    """The rows of every element family of ``system`` beyond gaps and friction."""
+    links = system.links
+    return ElementFamilyRows(
+        kind=np.full(len(links), FAMILY_LINK, dtype=np.int64),
+        law=links.law_id,
+        dof=links.dof,
+        sign=links.sign,
+        params=links.params,
+        n_state=N_LINK_STATE,
+    )
+
+
 def impact_paths(imp_val: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(impact, point) penetration [m] and force [N] of the kernel's step paths, NaN-padded."""
     n = imp_val[:, kn.IMP_NPTS].astype(np.int64)
@@ -241,45 +287,49 @@ def integrate_newmark(
     fr = system.friction
     n, n_el, n_fr = system.n_dof, len(el), len(fr)
     n_out = n_steps // output_every + 1
-    # gap elements followed by one row per friction element: a base dof with sign +1
     floor = v0_floor(system, ground)
-    x_dof = np.vstack((el.el_dof, np.column_stack((fr.fr_dof, -np.ones(n_fr, dtype=np.int64)))))
-    x_sign = np.vstack((el.el_sign, np.column_stack((np.ones(n_fr), np.zeros(n_fr)))))
+    families = element_families(system)
+    # the rows of the Woodbury update: gaps, then one per friction element (its base dof, sign +1),
+    # then the element families
+    x_dof = np.vstack((el.el_dof, np.column_stack((fr.fr_dof, -np.ones(n_fr, dtype=np.int64))),
+                       families.dof))  # fmt: skip
+    x_sign = np.vstack((el.el_sign, np.column_stack((np.ones(n_fr), np.zeros(n_fr))),
+                        families.sign))  # fmt: skip
+    sy = kn.System(system.mass, system.damping, system.stiffness, system.influence,
+                   system.below, _f64(ground.acceleration), float(ground.dt), _i64(x_dof),
+                   _f64(x_sign))  # fmt: skip
+    opts = kn.Options(float(tol), int(max_iter), int(max_halvings), bool(locate_onset),
+                      penetration_tolerance(system, ground, tol), float(floor), bool(adaptive),
+                      float(steps_per_contact), float(dt))  # fmt: skip
+    tc_coef, tc_exp = contact_duration_coefficients(system)
     while True:
-        out = {
-            "u": np.zeros((n_out, n)),
-            "v": np.zeros((n_out, n)),
-            "a": np.zeros((n_out, n)),
-            "ag": np.zeros(n_out),
-            "d": np.zeros((n_out, n_el)),
-            "f": np.zeros((n_out, n_el)),
-            "e": np.zeros((n_out, len(ENERGY_TERMS))),
-            "ff": np.zeros((n_out, n_fr)),
-            "st": np.zeros((n_out, n_fr)),
-        }
-        peaks = [np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_el), np.zeros(n_el)]
-        imp_el = np.zeros(impact_capacity, dtype=np.int64)
-        imp_val = np.zeros((impact_capacity, kn.IMP_COLUMNS))
-        counters = np.zeros(7, dtype=np.int64)
-        t_reached = kn.newmark_run(
-            system.mass, system.damping, system.stiffness, system.influence,
-            ground.acceleration, ground.dt, float(dt), int(n_steps), int(output_every),
-            sch.gamma, sch.beta, sch.alpha,
-            x_dof, x_sign, el.el_gap, el.el_law, el.el_params, system.below,
-            fr.fr_dof, fr.fr_kind, fr.fr_law, fr.fr_params, fr.fr_bouc_wen, fr.fr_normal,
-            float(tol), int(max_iter), int(max_halvings), bool(locate_onset),
-            penetration_tolerance(system, ground, tol), floor,
-            bool(adaptive), float(steps_per_contact), *contact_duration_coefficients(system),
-            out["u"], out["v"], out["a"], out["ag"], out["d"], out["f"], out["e"], out["ff"],
-            out["st"], *peaks, imp_el, imp_val, counters,
+        gaps = kn.Gaps(_i64(el.el_dof), _f64(el.el_sign), _f64(el.el_gap), _i64(el.el_law),
+                       _f64(el.el_params), tc_coef, tc_exp, np.zeros(n_el, dtype=np.bool_),
+                       np.zeros(n_el), np.zeros(n_el), np.zeros(n_el),
+                       -np.ones(n_el, dtype=np.int64), np.zeros(n_el), np.zeros(n_el),
+                       np.zeros(n_el))  # fmt: skip
+        friction = kn.Friction(_i64(fr.fr_dof), _i64(fr.fr_kind), _i64(fr.fr_law),
+                               _f64(fr.fr_params), _f64(fr.fr_bouc_wen), _f64(fr.fr_normal),
+                               np.zeros((n_fr, kn.N_FS)), np.zeros(n_fr),
+                               np.zeros(n_fr, dtype=np.bool_))  # fmt: skip
+        out = kn.Output(
+            np.zeros((n_out, n)), np.zeros((n_out, n)), np.zeros((n_out, n)), np.zeros(n_out),
+            np.zeros((n_out, n_el)), np.zeros((n_out, n_el)),
+            np.zeros((n_out, len(ENERGY_TERMS))), np.zeros((n_out, n_fr)),
+            np.zeros((n_out, n_fr)), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_el),
+            np.zeros(n_el), np.zeros(impact_capacity, dtype=np.int64),
+            np.zeros((impact_capacity, kn.IMP_COLUMNS)), np.zeros(kn.N_COUNTERS, dtype=np.int64),
         )  # fmt: skip
+        t_reached = kn.newmark_run(sy, kn.Scheme(sch.gamma, sch.beta, sch.alpha), gaps, friction,
+                                   families.fresh(), opts, int(n_steps), int(output_every), out)  # fmt: skip
+        imp_el, imp_val, counters = out.imp_el, out.imp_val, out.counters
         status = counters[kn.CNT_STATUS]
         if status == kn.STATUS_IMPACT_LOG_FULL:
             impact_capacity *= 4
             continue
         if status == kn.STATUS_NO_CONVERGENCE:
             where = _contacts_at_failure(
-                system, imp_el, imp_val, counters, out["d"], t_reached, dt * output_every
+                system, imp_el, imp_val, counters, out.d, t_reached, dt * output_every
             )
             raise ConvergenceError(
                 f"Newton-Raphson did not converge at t = {t_reached:.6g} s, {where}, with dt = "
@@ -294,21 +344,21 @@ def integrate_newmark(
     impacts["path_penetration"], impacts["path_force"] = impact_paths(imp_val[:n_imp])
     return RawResult(
         time=dt * output_every * np.arange(n_out),
-        displacement=out["u"],
-        velocity=out["v"],
-        acceleration=out["a"],
-        ground_acceleration=out["ag"],
-        penetration=out["d"],
-        contact_force=out["f"],
-        energy=out["e"],
-        peak_displacement=peaks[0],
-        peak_drift=peaks[1],
-        peak_absolute_acceleration=peaks[2],
-        peak_contact_force=peaks[3],
-        peak_penetration=peaks[4],
+        displacement=out.u,
+        velocity=out.v,
+        acceleration=out.a,
+        ground_acceleration=out.ag,
+        penetration=out.d,
+        contact_force=out.f,
+        energy=out.e,
+        peak_displacement=out.peak_u,
+        peak_drift=out.peak_drift,
+        peak_absolute_acceleration=out.peak_aabs,
+        peak_contact_force=out.peak_f,
+        peak_penetration=out.peak_d,
         impacts=impacts,
-        friction_force=out["ff"],
-        stick=out["st"],
+        friction_force=out.ff,
+        stick=out.st,
         info={
             "integrator": sch.name,
             "gamma": sch.gamma,

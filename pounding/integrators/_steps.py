@@ -1,0 +1,491 @@
+"""The step kinds of the compiled Newmark/HHT core, on the named groups of :mod:`._layout`:
+
+- the linear step (no element force changes): band solve or, for small systems, a dense map;
+- the linear step with Coulomb slabs (sliding: known force; stuck: constraint reactions);
+- the contact step condensed onto the gaps (Newton on the gap openings alone);
+- the full Newton step over every element family (Woodbury update of the known tangent);
+- the residual of the equation of motion, the stick force of a slab and the equilibrium restart.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pounding._numba import jit, jit_internal, jit_kernel, jit_setup
+from pounding.integrators._coefficients import (
+    end_of_step,
+    newmark_coefficients,
+    tangent_band,
+    tangent_dense,
+)
+from pounding.integrators._events import ground_at
+from pounding.integrators._families import (
+    add_forces,
+    add_friction,
+    add_row_tangent,
+    eval_elements,
+    eval_friction,
+    eval_gaps,
+    gap_force,
+    gap_openings,
+    row_stiffness,
+)
+from pounding.integrators._layout import FS_DIR, FS_F0, FS_F1, FS_STUCK
+from pounding.integrators._linalg import (
+    _band_inverse,
+    _band_matvec_add,
+    _gauss_solve,
+    _mv,
+    _solve_small,
+    _woodbury_solve,
+    band_ldl,
+    band_solve,
+    bandwidth,
+    to_band,
+)
+from pounding.system import FRICTION_COULOMB
+
+
+@jit
+def dense_map(h, M, C, K, Mi, sch):
+    """Q (n × 3n) and p (n) with u1 = Q [u; v; a] + p g_eff: one Newmark/HHT step of the linear
+    system, for small systems (see :func:`linear_step`)."""
+    n = M.shape[0]
+    bw = bandwidth(M, C, K)
+    L, D = band_ldl(tangent_band(h, to_band(M, bw), to_band(C, bw), to_band(K, bw), sch), bw)
+    J_inv = np.empty((n, n))
+    _band_inverse(L, D, bw, J_inv)
+    cf = newmark_coefficients(h, sch)
+    w = cf.w
+    alpha = cf.alpha
+    Q = np.zeros((n, 3 * n))
+    pg = np.zeros(n)
+    for i in range(n):
+        for k in range(n):
+            jik = J_inv[i, k]
+            pg[i] -= jik * Mi[k]
+            for j in range(n):
+                Q[i, j] += jik * (cf.c0 * M[k, j] + w * cf.c1 * C[k, j] + alpha * K[k, j])
+                Q[i, n + j] += jik * (cf.c2 * M[k, j] + (w * cf.c4 + alpha) * C[k, j])
+                Q[i, 2 * n + j] += jik * (cf.c3 * M[k, j] + w * cf.c5 * C[k, j])
+    return Q, pg
+
+
+@jit_kernel
+def dense_step(Q, pg, g_eff, cf, x0, tr):
+    """Apply the dense map (explicit loops: no allocation, no BLAS call overhead)."""
+    u, v, a = x0
+    n = u.size
+    for i in range(n):
+        acc = pg[i] * g_eff
+        for j in range(n):
+            acc += Q[i, j] * u[j] + Q[i, n + j] * v[j] + Q[i, 2 * n + j] * a[j]
+        tr.u1[i] = acc
+    end_of_step(cf, u, v, a, tr.u1, tr.v1, tr.a1)
+
+
+@jit_internal
+def linear_step(md, fac, g_eff, cf, x0, tr, lin):
+    """One Newmark/HHT step of the linear system (no change of element force), for the increment:
+
+    J Δu = M(c2 v + c3 a) + C((w c4 + α) v + w c5 a) − K u − M ι g_eff,  J = c0 M + w(c1 C + K),
+
+    from the weighted equation M a1 + w(C v1 + K u1) − α(C v + K u) = −M ι g_eff (w = 1 + α) and the
+    Newmark relations. The dense map of ``fac`` for small systems; else band products and the band
+    factors of J: O(n bw) per step, and the increment keeps its digits at small steps."""
+    u, v, a = x0
+    if fac.Q.shape[0] == u.size:
+        dense_step(fac.Q, fac.pg, g_eff, cf, x0, tr)
+        return
+    n = u.size
+    bw = md.bw
+    p, q, rhs, du = lin
+    for i in range(n):
+        p[i] = cf.c2 * v[i] + cf.c3 * a[i]
+        q[i] = (cf.w * cf.c4 + cf.alpha) * v[i] + cf.w * cf.c5 * a[i]
+    for i in range(n):
+        acc = -md.Mi[i] * g_eff
+        for k in range(max(0, bw - i), min(2 * bw + 1, n - i + bw)):
+            j = i - bw + k
+            acc += md.Mb[i, k] * p[j] + md.Cb[i, k] * q[j] - md.Kb[i, k] * u[j]
+        rhs[i] = acc
+    band_solve(fac.L, fac.D, bw, rhs, du)
+    for i in range(n):
+        tr.u1[i] = u[i] + du[i]
+        tr.a1[i] = cf.c0 * du[i] - cf.c2 * v[i] - cf.c3 * a[i]
+        tr.v1[i] = cf.c1 * du[i] - cf.c4 * v[i] - cf.c5 * a[i]
+
+
+@jit_internal
+def linear_step_coulomb(md, fac, g_eff, cf, x0, fr, tr, wk):
+    """The linear step with Coulomb slabs: sliding ones load their base with the known force
+    w f1 − α f0 (f = ±μ_d N), stuck ones hold u_b by reactions λ solved from J⁻¹ restricted to the
+    stuck bases (the constrained step, no Newton)."""
+    u, v, a = x0
+    u1 = tr.u1
+    n = u.size
+    J_inv = fac.J_inv
+    st = fr.state
+    linear_step(md, fac, g_eff, cf, x0, tr, wk.lin)
+    m = 0
+    for k in range(fr.dof.size):
+        b = fr.dof[k]
+        if st[k, FS_STUCK] != 0.0:
+            m += 1
+            continue
+        f1 = st[k, FS_DIR] * fr.params[k, 1] * fr.normal[k]
+        st[k, FS_F1] = f1
+        phi = cf.w * f1 - cf.alpha * st[k, FS_F0]
+        for i in range(n):
+            u1[i] -= J_inv[i, b] * phi
+    if m > 0:
+        S = wk.S
+        rhs_col = S.shape[1] - 1
+        r = 0
+        for k in range(fr.dof.size):
+            if st[k, FS_STUCK] == 0.0:
+                continue
+            q = 0
+            for k2 in range(fr.dof.size):
+                if st[k2, FS_STUCK] != 0.0:
+                    S[r, q] = J_inv[fr.dof[k], fr.dof[k2]]
+                    q += 1
+            S[r, rhs_col] = u1[fr.dof[k]] - u[fr.dof[k]]
+            r += 1
+        _solve_small(S, m)
+        q = 0
+        for k in range(fr.dof.size):
+            if st[k, FS_STUCK] == 0.0:
+                continue
+            lam = S[q, rhs_col]
+            for i in range(n):
+                u1[i] -= J_inv[i, fr.dof[k]] * lam
+            q += 1
+        for k in range(fr.dof.size):
+            if st[k, FS_STUCK] != 0.0:
+                u1[fr.dof[k]] = u[fr.dof[k]]
+    end_of_step(cf, u, v, a, u1, tr.v1, tr.a1)
+
+
+@jit_kernel
+def condense_map(J_inv, dof, sign, Z, S):
+    """Z = J⁻¹ B (n × C) and S = Bᵀ J⁻¹ B (C × C), B the gap elements' sign columns: how contact
+    forces move every dof and every gap through one step of the linear system (in place)."""
+    n = J_inv.shape[0]
+    n_el = Z.shape[1]
+    for c in range(n_el):
+        for i in range(n):
+            z = 0.0
+            for s in range(2):
+                k = dof[c, s]
+                if k >= 0:
+                    z += J_inv[i, k] * sign[c, s]
+            Z[i, c] = z
+    for r in range(n_el):
+        for c in range(n_el):
+            acc = 0.0
+            for s in range(2):
+                k = dof[r, s]
+                if k >= 0:
+                    acc += sign[r, s] * Z[k, c]
+            S[r, c] = acc
+
+
+@jit_kernel
+def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
+    """A step with gap elements, condensed onto the gaps. On entry ``tr`` holds the step of the
+    linear system (no new contact force) taken with the tangent of ``fac``, whose Z and S are
+    :func:`condense_map`. The structure is linear apart from the contact forces, so the step ends at
+
+        u1 = u_lin + Z (α f0 − w f1),   δ = δ_lin + S (α f0 − w f1),   δ̇ = δ̇_lin + c1 (δ − δ_lin),
+
+    and Newton runs on the C gap openings alone (no n × n work per iteration) before one O(nC)
+    update of u1, v1, a1. Only the A gaps with a contact stiffness couple the Newton system, so each
+    iteration solves A × A and back-substitutes the others: O(A³ + CA), not O(C³), for a long row
+    of contacts with few closed. Returns (ok, Newton iterations), as :func:`newton`."""
+    n = u.size
+    n_el = gaps.gap.size
+    Z = fac.Z
+    S = fac.S
+    f0 = gaps.f0
+    alpha = cf.alpha
+    w = cf.w
+    cw = wk.cw
+    act = wk.act
+    Sm = wk.Sm
+    d1 = tr.d1
+    dd1 = tr.dd1
+    rhs_col = Sm.shape[1] - 1
+    d_lin = cw[0]
+    dd_lin = cw[1]
+    gap_openings(tr.u1, tr.v1, gaps, d_lin, dd_lin)
+    u_scale = 1e-3
+    for i in range(n):
+        u_scale = max(u_scale, abs(u[i]), abs(tr.u1[i]))
+    tol_d = opts.tol * u_scale
+    # start from the forces of the step start (f1 ≈ f0 inside a contact, 0 outside)
+    for c in range(n_el):
+        acc = d_lin[c]
+        for q in range(n_el):
+            acc -= S[c, q] * f0[q]
+        d1[c] = acc
+    ok = False
+    n_it = opts.max_iter
+    small = False
+    prev_active = True
+    for it in range(opts.max_iter + 1):
+        active = False
+        for c in range(n_el):
+            dd1[c] = dd_lin[c] + cf.c1 * (d1[c] - d_lin[c])
+            if off[c]:
+                tr.f1[c] = 0.0
+                tr.kd1[c] = 0.0
+                tr.cd1[c] = 0.0
+                continue
+            fc, kc, cc = gap_force(gaps, c, d1[c], dd1[c])
+            tr.f1[c] = fc
+            tr.kd1[c] = kc
+            tr.cd1[c] = cc
+            if fc != 0.0 or kc != 0.0:
+                active = True
+        if it > 0 and (small or (not active and not prev_active)):
+            ok = True
+            n_it = it
+            break
+        if it == opts.max_iter:
+            n_it = it
+            break
+        prev_active = active
+        # r = δ − δ_lin − S (α f0 − w f1),  ∂r/∂δ = I + w S diag(k + c1 c): a column is zero
+        # but for its unit diagonal where a gap has no stiffness
+        n_act = 0
+        for q in range(n_el):
+            kq = w * (tr.kd1[q] + cf.c1 * tr.cd1[q])
+            cw[2, q] = kq
+            if kq != 0.0:
+                act[n_act] = q
+                n_act += 1
+        for r in range(n_el):
+            acc = d1[r] - d_lin[r]
+            for q in range(n_el):
+                acc -= S[r, q] * (alpha * f0[q] - w * tr.f1[q])
+            cw[3, r] = -acc
+        for ia in range(n_act):
+            r = act[ia]
+            for ja in range(n_act):
+                q = act[ja]
+                Sm[ia, ja] = S[r, q] * cw[2, q]
+            Sm[ia, ia] += 1.0
+            Sm[ia, rhs_col] = cw[3, r]
+        if not _solve_small(Sm, n_act):
+            n_it = it
+            break
+        for ia in range(n_act):
+            cw[3, act[ia]] = Sm[ia, rhs_col]
+        big = 0.0
+        for c in range(n_el):
+            if cw[2, c] == 0.0:
+                for ja in range(n_act):
+                    q = act[ja]
+                    cw[3, c] -= S[c, q] * cw[2, q] * cw[3, q]
+            d1[c] += cw[3, c]
+            big = max(big, abs(cw[3, c]))
+        if not math.isfinite(big):
+            n_it = it
+            break
+        small = big <= tol_d
+    if ok:
+        for i in range(n):
+            acc = 0.0
+            for c in range(n_el):
+                acc += Z[i, c] * (alpha * f0[c] - w * tr.f1[c])
+            tr.u1[i] += acc
+            tr.v1[i] += cf.c1 * acc
+            tr.a1[i] += cf.c0 * acc
+    return ok, n_it
+
+
+@jit_internal
+def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
+    """One Newmark/HHT step of length hs from x0 = (u, v, a), every element family included; fills
+    ``tr``. Returns (ok, iterations).
+
+    ``md.x_dof``/``md.x_sign`` hold the rows of the gaps, the friction elements (base dof, sign +1)
+    and the element families, so one Woodbury update covers active contacts, sliding tangents,
+    stuck-slab constraints and the families' tangents. When hs equals ``fac.h[0]``, the step whose
+    inverse tangent without contacts is known, each iteration solves by that update; otherwise the
+    full tangent is assembled and solved."""
+    u, v, a = x0
+    n = u.size
+    n_el = gaps.gap.size
+    n_fr = fr.dof.size
+    n_x = md.x_dof.shape[0]
+    u1 = tr.u1
+    cf = newmark_coefficients(hs, sch)
+    w = cf.w
+    alpha = cf.alpha
+    g_eff = w * ground_at(md.ag, md.ag_dt, t + hs) - alpha * ground_at(md.ag, md.ag_dt, t)
+    known = abs(hs - fac.h[0]) <= 1e-8 * fac.h[0]
+    old = wk.vec[0]
+    y = wk.vec[1]
+    step = wk.vec[2]
+    kc = wk.vec[3, :n_x]
+    # the α-weighted old internal forces plus the load: −α (C v + K u + Bᵀ f0) + M ι g_eff
+    for i in range(n):
+        old[i] = md.Mi[i] * g_eff
+    if alpha != 0.0:
+        _mv(md.C, md.Cb, md.bw, md.dense, v, -alpha, old)
+        _mv(md.K, md.Kb, md.bw, md.dense, u, -alpha, old)
+        # a stuck slab's row is replaced by its constraint
+        add_forces(old, -alpha, gaps, gaps.f0, el, el.f0)
+        add_friction(old, -alpha, fr, FS_F0, True)
+    u_scale = 1e-3
+    for i in range(n):
+        # predictor: constant acceleration over the step (one Newton iteration fewer than u1 = u)
+        u1[i] = u[i] + hs * v[i] + 0.5 * hs * hs * a[i]
+        u_scale = max(u_scale, abs(u[i]))
+    small = False
+    prev_active = True
+    for it in range(opts.max_iter + 1):
+        end_of_step(cf, u, v, a, u1, tr.v1, tr.a1)
+        active = eval_gaps(u1, tr.v1, gaps, off, tr)
+        if n_fr > 0 and eval_friction(u, u1, tr.v1, cf.c1, fr):
+            active = True
+        if eval_elements(u1, tr.v1, hs, el):
+            active = True
+        if it > 0 and (small or (not active and not prev_active)):
+            return True, it
+        if it == opts.max_iter:
+            return False, it
+        prev_active = active
+        # residual of the weighted equation of motion
+        R = wk.R
+        for i in range(n):
+            R[i] = old[i]
+        _mv(md.M, md.Mb, md.bw, md.dense, tr.a1, 1.0, R)
+        _mv(md.C, md.Cb, md.bw, md.dense, tr.v1, w, R)
+        _mv(md.K, md.Kb, md.bw, md.dense, u1, w, R)
+        add_forces(R, w, gaps, tr.f1, el, el.f1)
+        add_friction(R, w, fr, FS_F1, True)
+        row_stiffness(cf, tr, fr, el, kc)
+        solved = False
+        if known:
+            solved = _woodbury_solve(fac.J_inv, fac.L, fac.D, md.bw, md.dense, R, md.x_dof,
+                                     md.x_sign, kc, wk.Z, wk.S, y, step)  # fmt: skip
+        if not solved:
+            J = wk.J
+            tangent_dense(cf, md.M, md.C, md.K, J)
+            add_row_tangent(md.x_dof, md.x_sign, kc, J)
+            for k in range(n_fr):
+                if math.isinf(kc[n_el + k]):  # a stuck slab: its row becomes u1_b − u_b = 0
+                    i = fr.dof[k]
+                    for j in range(n):
+                        J[i, j] = 0.0
+                    J[i, i] = 1.0
+                    R[i] = 0.0
+            _gauss_solve(J, R, step)
+            for i in range(n):
+                step[i] = -step[i]
+        big = 0.0
+        u_max = u_scale
+        for i in range(n):
+            u1[i] += step[i]
+            big = max(big, abs(step[i]))
+            u_max = max(u_max, abs(u1[i]))
+        for k in range(n_fr):
+            if fr.state[k, FS_STUCK] != 0.0:
+                u1[fr.dof[k]] = u[fr.dof[k]]  # exactly, not to round-off
+        if not math.isfinite(big):
+            return False, it
+        small = big <= opts.tol * u_max
+    return False, opts.max_iter
+
+
+@jit_internal
+def residual(md, g, u, v, a, gaps, f, fr, el, r):
+    """r = M a + C v + K u + Bᵀ F + f_friction + M ι a_g: what the state fails the equation of motion
+    by at one instant (zero for Newmark's end-of-step states; the α-weighted lag of HHT)."""
+    for i in range(u.size):
+        r[i] = md.Mi[i] * g
+    _band_matvec_add(md.Mb, md.bw, a, 1.0, r)
+    _band_matvec_add(md.Cb, md.bw, v, 1.0, r)
+    _band_matvec_add(md.Kb, md.bw, u, 1.0, r)
+    add_forces(r, 1.0, gaps, f, el, el.f1)
+    add_friction(r, 1.0, fr, FS_F1, False)
+
+
+@jit_internal
+def stick_force(b, g1, md, u1, v1, gaps, f1, el):
+    """Force p [N] that holds base dof b at rest: m_b u_b'' = p − f, p = −m_b a_g − (C u̇ + K u)_b
+    − (Bᵀ F)_b. A stuck slab's friction equals p; it slides towards sign(p) once |p| > μ_s N."""
+    p = -md.Mi[b] * g1
+    for j in range(u1.size):
+        p -= md.C[b, j] * v1[j] + md.K[b, j] * u1[j]
+    for c in range(f1.size):
+        for s in range(2):
+            if gaps.dof[c, s] == b:
+                p -= gaps.sign[c, s] * f1[c]
+    for e in range(el.kind.size):
+        for s in range(2):
+            if el.dof[e, s] == b:
+                p -= el.sign[e, s] * el.f1[e]
+    return p
+
+
+@jit_internal
+def equilibrium(g1, md, tr, gaps, fr, el, rhs):
+    """Restart the acceleration from equilibrium at (u1, v1), with every element force; a stuck
+    Coulomb slab is tested: it keeps sticking (f = p, ü_b = 0) while |p| <= μ_s N, else it breaks
+    away towards sign(p) against μ_d N. Returns True when a slab broke away."""
+    u1 = tr.u1
+    v1 = tr.v1
+    n = u1.size
+    st = fr.state
+    broke = False
+    for i in range(n):
+        acc = -md.Mi[i] * g1
+        for j in range(n):
+            acc -= md.C[i, j] * v1[j] + md.K[i, j] * u1[j]
+        rhs[i] = acc
+    add_forces(rhs, -1.0, gaps, tr.f1, el, el.f1)
+    add_friction(rhs, -1.0, fr, FS_F1, True)
+    for k in range(fr.dof.size):
+        b = fr.dof[k]
+        if fr.kind[k] == FRICTION_COULOMB and st[k, FS_STUCK] != 0.0:
+            p = rhs[b]
+            if abs(p) <= fr.params[k, 0] * fr.normal[k]:
+                st[k, FS_F1] = p
+                rhs[b] = 0.0
+                continue
+            st[k, FS_STUCK] = 0.0
+            st[k, FS_DIR] = 1.0 if p > 0.0 else -1.0
+            st[k, FS_F1] = st[k, FS_DIR] * fr.params[k, 1] * fr.normal[k]
+            broke = True
+            rhs[b] -= st[k, FS_F1]
+    for i in range(n):
+        acc = 0.0
+        for j in range(n):
+            acc += md.M_inv[i, j] * rhs[j]
+        tr.a1[i] = acc
+    for k in range(fr.dof.size):
+        if st[k, FS_STUCK] != 0.0:
+            tr.a1[fr.dof[k]] = 0.0
+            v1[fr.dof[k]] = 0.0
+    return broke
+
+
+@jit_setup
+def refactor(h, md, sch, fac):
+    """Factor the tangent without contacts of a step of length h into ``fac`` (in place: arrays
+    reassigned inside the loop would cost reference-count traffic on every step)."""
+    L, D = band_ldl(tangent_band(h, md.Mb, md.Cb, md.Kb, sch), md.bw)
+    _band_inverse(L, D, md.bw, fac.J_inv)
+    for i in range(D.size):
+        fac.D[i] = D[i]
+        for j in range(md.bw + 1):
+            fac.L[i, j] = L[i, j]
+    fac.h[0] = h
+    n_el = fac.Z.shape[1]
+    condense_map(fac.J_inv, md.x_dof[:n_el], md.x_sign[:n_el], fac.Z, fac.S)
