@@ -47,6 +47,8 @@ _LAZY = {
     "load_study": "pounding.studies",
     "run_study": "pounding.studies",
     "Contact": "pounding.system",
+    "Link": "pounding.system",
+    "LINK_LAWS": "pounding.links",
     "PoundingSystem": "pounding.system",
     "assemble": "pounding.system",
     "separation_analysis": "pounding.separation",
@@ -66,6 +68,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs (not report and separation: impo
         ResultWriteError,
     )
     from pounding.ground_motion import GroundMotion, harmonic, ricker, sine_pulse
+    from pounding.links import LINK_LAWS
     from pounding.results import open_result, save
     from pounding.simulate import AnalysisOptions, simulate
     from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
@@ -77,7 +80,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs (not report and separation: impo
         run_study,
         stop_on_signals,
     )
-    from pounding.system import Contact, PoundingSystem, assemble
+    from pounding.system import Contact, Link, PoundingSystem, assemble
 
 
 def __getattr__(name: str):
@@ -115,6 +118,8 @@ __all__ = [
     "CaseError",
     "Contact",
     "ConvergenceError",
+    "LINK_LAWS",
+    "Link",
     "IntegrationError",
     "PoundingError",
     "PoundingInputError",

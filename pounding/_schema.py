@@ -118,6 +118,14 @@ ATTRS: dict[str, dict[str, str]] = {
         "long_name": "bearing friction force (resisting; reaction while stuck)",
     },
     "stick": {"units": "1", "long_name": "bearings stuck (1) or sliding (0)"},
+    "link_force": {"units": "N", "long_name": "coupling link force (positive pushing apart)"},
+    "peak_link_force": {"units": "N", "long_name": "peak absolute coupling link force"},
+    "link": {"long_name": "coupling link (one per linked floor pair)"},
+    "link_left": {"long_name": "building on the left of the link"},
+    "link_right": {"long_name": "building on the right of the link"},
+    "link_left_floor": {"long_name": "floor of the left building the link joins"},
+    "link_right_floor": {"long_name": "floor of the right building the link joins"},
+    "link_type": {"long_name": "coupling link law"},
     "peak_base_displacement": {
         "units": "m",
         "long_name": "peak absolute base slab (bearing) displacement",
@@ -327,7 +335,7 @@ def result_variables(
     for i, s in enumerate(shapes):
         mode_shape[i, : s.shape[0], : s.shape[1]] = s
     group = [system.contacts[g] for g in el.group]
-    d: dict[str, tuple] = {**_isolation_variables(system, raw)}
+    d: dict[str, tuple] = {**_isolation_variables(system, raw), **_link_variables(system, raw)}
     d.update(
         {
             "displacement": (("time", "building", "floor"), u),
@@ -585,6 +593,23 @@ def _isolation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tu
     )
     out["base_normal_force"] = (("building",), np.array([b.weight if b.base else nan for b in bl]))
     return out
+
+
+def _link_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tuple]:
+    """Link forces and labels, only for a system with coupling links (no empty ``link`` axis)."""
+    ln = system.links
+    if not len(ln) or raw.link_force is None:
+        return {}
+    return {
+        "link_force": (("time", "link"), raw.link_force),
+        "peak_link_force": (("link",), raw.peak_link_force),
+        "link": (("link",), np.arange(len(ln))),
+        "link_left": (("link",), np.array(ln.left, dtype=str)),
+        "link_right": (("link",), np.array(ln.right, dtype=str)),
+        "link_left_floor": (("link",), ln.left_floor),
+        "link_right_floor": (("link",), ln.right_floor),
+        "link_type": (("link",), np.array(ln.law, dtype=str)),
+    }
 
 
 def energy_balance_error(energy: np.ndarray) -> float:

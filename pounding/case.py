@@ -19,7 +19,7 @@ from pounding.errors import PoundingInputError
 from pounding.ground_motion import ANALYTIC_MOTIONS, GroundMotion, analytic
 from pounding.simulate import ANALYSIS_KEYS, OUTPUT_KEYS, AnalysisOptions
 from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
-from pounding.system import Contact, PoundingSystem, assemble
+from pounding.system import Contact, Link, PoundingSystem, assemble
 from pounding.units import acceleration_factor
 from pounding.validation import Key, check_table, reference
 
@@ -165,10 +165,42 @@ _RECORD_KEYS = (
     Key("format", "string", "file format, when it cannot be recognised"),
     Key("scale", "number", "factor on the acceleration", low=0.0, high=100.0, open_low=True),
 )
+_LINK_KEYS = (
+    Key("left", "string", "building on the left", required=True),
+    Key("right", "string", "building on the right (the left one's neighbour)", required=True),
+    Key("type", "string", "link law: kelvin (default), viscous or maxwell (pounding laws)"),
+    Key("floors", "any", '"common" or a non-empty list of [left, right] floor pairs'),
+    Key("k", "number", "spring stiffness (kelvin, maxwell)", unit="N/m", low=0.0, high=1e15),
+    Key(
+        "c",
+        "number",
+        "damping coefficient (kelvin, maxwell: N s/m; viscous: N (s/m)^alpha)",
+        low=0.0,
+        high=1e15,
+    ),
+    Key(
+        "alpha",
+        "number",
+        "velocity exponent of a viscous damper (default 1)",
+        low=0.0,
+        high=2.0,
+        open_low=True,
+    ),  # fmt: skip
+    Key(
+        "v_lin",
+        "number",
+        "speed below which a viscous damper is linear (default 0.001)",
+        unit="m/s",
+        low=0.0,
+        high=1.0,
+        open_low=True,
+    ),  # fmt: skip
+)
 _TOP_KEYS = (
     "title",
     "building",
     "contact",
+    "link",
     "ground_motion",
     "analysis",
     "output",
@@ -180,6 +212,7 @@ CASE_SCHEMA = {
     "[[building]]": _BUILDING_KEYS,
     "[[building]] damping": _DAMPING_KEYS,
     "[[contact]]": _CONTACT_KEYS,
+    "[[link]]": _LINK_KEYS,
     "[ground_motion] (analytic)": _ANALYTIC_KEYS,
     "[ground_motion] (record)": _RECORD_KEYS,
     "[analysis]": ANALYSIS_KEYS,
@@ -315,6 +348,17 @@ def _contact(spec: Mapping[str, Any], where: str) -> Contact:
     return Contact(**spec)
 
 
+def _link(spec: Mapping[str, Any], where: str) -> Link:
+    spec = _checked(spec, _LINK_KEYS, where)
+    floors = spec.get("floors", "common")
+    if floors != "common" and not (_floors_ok(floors) and all(isinstance(f, list) for f in floors)):
+        raise CaseError(
+            f'{where}.floors = {floors!r}; allowed: "common" or a non-empty list of '
+            "[left_floor, right_floor] pairs"
+        )
+    return Link(**spec)
+
+
 def _floors_ok(floors: Any) -> bool:
     """``floors`` is "common", "all" or a non-empty list of floor integers or integer pairs."""
     if isinstance(floors, str):
@@ -429,8 +473,21 @@ def case_from_dict(
                 raise
             except (ValueError, TypeError) as exc:
                 raise CaseError(f"contact[{i}]: {exc}") from None
+        lks = data.get("link", [])
+        if not isinstance(lks, list) or not all(isinstance(c, Mapping) for c in lks):
+            raise CaseError(
+                f"link = {lks!r}; allowed: [[link]] tables (an array of tables), or none"
+            )
+        links = []
+        for i, spec in enumerate(lks):
+            try:
+                links.append(_link(spec, f"link[{i}]"))
+            except CaseError:
+                raise
+            except (ValueError, TypeError) as exc:
+                raise CaseError(f"link[{i}]: {exc}") from None
         try:
-            system = assemble(buildings, contacts)
+            system = assemble(buildings, contacts, links)
         except ValueError as exc:
             raise CaseError(str(exc)) from None
         if "ground_motion" not in data:

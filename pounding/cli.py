@@ -299,7 +299,7 @@ app.add_typer(laws_app, name="laws")
 
 @laws_app.callback()
 def laws(ctx: typer.Context) -> None:
-    """List the contact laws with their force law and reference."""
+    """List the contact, friction and coupling-link laws with their force law and reference."""
     if ctx.invoked_subcommand is not None:
         return
     from pounding.contact.laws import LAWS_BY_ID
@@ -315,6 +315,12 @@ def laws(ctx: typer.Context) -> None:
     typer.echo("friction laws (name: force; reference)")
     for law in FRICTION:
         typer.echo(f"  {law.name}: {law.formula}; {law.reference}")
+    from pounding.links import LINKS_BY_ID
+
+    typer.echo("coupling link types ([[link]] type: force; parameters; reference)")
+    for link in LINKS_BY_ID:
+        keys = ", ".join(f"{key} [{unit}]" for key, unit, _ in link.parameters)
+        typer.echo(f"  {link.name}: {link.formula}; {keys}; {link.reference}")
 
 
 @laws_app.command("restitution")

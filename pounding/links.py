@@ -17,12 +17,12 @@ internal state, ∂F/∂δ is the consistent tangent of its discrete update.
 law      force                                             parameters p                 reference
 ======== ================================================= ============================ ==========
 kelvin   F = k δ + c δ̇                                     k [N/m], c [N s/m]           [1]_
-viscous  F = c |δ̇|^α sgn δ̇ (linear below v_lin)             c [N (s/m)^α], α, v_lin      [2]_, [3]_
+viscous  F = c sgn(δ̇) abs(δ̇)^α (linear below v_lin)         c [N (s/m)^α], α, v_lin      [2]_, [3]_
 maxwell  k (δ − x_d) = c ẋ_d = F (spring and dashpot        k [N/m], c [N s/m]           [4]_
          in series)
 ======== ================================================= ============================ ==========
 
-The fluid viscous damper's tangent α c |δ̇|^(α−1) is infinite at δ̇ = 0 for α < 1; below
+The fluid viscous damper's tangent α c abs(δ̇)^(α−1) is infinite at δ̇ = 0 for α < 1; below
 ``v_lin`` [m/s] (default 1 mm/s) its force is the chord c v_lin^α δ̇/v_lin, which changes the energy
 of a cycle of amplitude X ω by less than (v_lin/(X ω))^(1+α). The Maxwell element integrates
 Ḟ = k δ̇ − F/τ (τ = c/k) exactly for δ linear over the step:
@@ -66,7 +66,8 @@ def kelvin_link_kernel(d, dd, h, s0, s1, p):
 
 
 def viscous_link_kernel(d, dd, h, s0, s1, p):
-    """Fluid viscous damper F = c |δ̇|^α sgn δ̇ [2], the chord c v_lin^α δ̇/v_lin for |δ̇| < v_lin."""
+    """Fluid viscous damper F = c sgn(δ̇) abs(δ̇)^α [2], the chord c v_lin^α δ̇/v_lin for
+    abs(δ̇) < v_lin."""
     c, alpha, v_lin = p[0], p[1], p[2]
     v = abs(dd)
     if v < v_lin:

@@ -295,7 +295,7 @@ def simulate_variables(
     system, ground, opts, title = _resolve(case_or_system, ground, options)
     result = _variables(system, ground, opts, title)
     if baseline and len(system.elements):
-        free = assemble(system.buildings, ())
+        free = assemble(system.buildings, (), system.link_specs)  # the links stay
         result = with_baseline(result, _variables(free, ground, opts, title))
     output = getattr(case_or_system, "output", None) or {}
     result.attrs["drift_limit"] = float(output.get("drift_limit", DRIFT_LIMIT))

@@ -44,7 +44,7 @@ from pounding.contact.calibrate import CALIBRATIONS, contact_parameters
 from pounding.contact.laws import N_KERNEL_PARAMS, ContactLaw, get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.friction import BOUC_WEN_PARAMETERS, FRICTION_LAWS
-from pounding.links import N_LINK_PARAMS
+from pounding.links import LINK_LAWS, N_LINK_PARAMS
 from pounding.structure import ShearBuilding
 
 #: Sign of the left point's displacement in δ.
@@ -120,6 +120,72 @@ class Contact:
             raise PoundingInputError(
                 f"{where}: calibration = {self.calibration!r}; allowed: {', '.join(CALIBRATIONS)}"
             )
+
+
+@dataclasses.dataclass(frozen=True)
+class Link:
+    """A coupling link between facing floors of two neighbours of the row (:mod:`pounding.links`).
+
+    Parameters
+    ----------
+    left, right : str
+        Building names (``left`` immediately left of ``right``).
+    type : str
+        Link law (:data:`pounding.links.LINK_LAWS`): ``kelvin``, ``viscous`` or ``maxwell``.
+    floors : "common" or sequence
+        As for :class:`Contact`: every pair of floors at the same elevation, or explicit
+        ``[(left_floor, right_floor), ...]`` pairs.
+    k, c, alpha, v_lin
+        Law parameters: stiffness [N/m], damping coefficient [N s/m, or N (s/m)^α for the fluid
+        viscous damper], velocity exponent α [-], linear range of the damper [m/s].
+    """
+
+    left: str
+    right: str
+    type: str = "kelvin"
+    floors: str | Sequence[Any] = "common"
+    k: float | None = None
+    c: float | None = None
+    alpha: float | None = None
+    v_lin: float | None = None
+
+    def parameters(self, where: str) -> list[float]:
+        """The law's parameter row (:data:`pounding.links.N_LINK_PARAMS` long), validated."""
+        law = LINK_LAWS.get(self.type)
+        if law is None:
+            raise PoundingInputError(
+                f"{where}: type = {self.type!r}; allowed: {', '.join(LINK_LAWS)}"
+            )
+        row = []
+        for key, unit, default in law.parameters:
+            value = getattr(self, key)
+            if value is None:
+                if default is None:
+                    raise PoundingInputError(f"{where}: {key} [{unit}] is required by {law.name!r}")
+                value = default
+            value = float(value)
+            low_ok = value > 0.0 if key in ("alpha", "v_lin") else value >= 0.0
+            if not (math.isfinite(value) and low_ok):
+                raise PoundingInputError(
+                    f"{where}: {key} = {value!r}; allowed: a finite number "
+                    f"{'> 0' if key in ('alpha', 'v_lin') else '>= 0'} [{unit}]"
+                )
+            row.append(value)
+        if law.name == "kelvin" and row[0] == 0.0 and row[1] == 0.0:
+            raise PoundingInputError(f"{where}: a kelvin link needs k > 0 or c > 0")
+        if law.name == "maxwell" and (row[0] == 0.0 or row[1] == 0.0):
+            raise PoundingInputError(f"{where}: a maxwell link needs k > 0 and c > 0")
+        extra = sorted(
+            key
+            for key in ("k", "c", "alpha", "v_lin")
+            if getattr(self, key) is not None and key not in {p[0] for p in law.parameters}
+        )
+        if extra:
+            raise PoundingInputError(
+                f"{where}: {', '.join(extra)} not used by type = {law.name!r}; its parameters: "
+                f"{', '.join(p[0] for p in law.parameters)}"
+            )
+        return row + [0.0] * (N_LINK_PARAMS - len(row))
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -231,6 +297,7 @@ class PoundingSystem:
     base_dof: np.ndarray
     friction: FrictionElements
     links: LinkElements = dataclasses.field(default_factory=LinkElements.empty)
+    link_specs: tuple[Link, ...] = ()
 
     @property
     def n_dof(self) -> int:
@@ -322,7 +389,7 @@ def _levels(b: ShearBuilding, shown: int = 4) -> str:
 
 
 def _floor_pairs(
-    contact: Contact, left: ShearBuilding | None, right: ShearBuilding | None, where: str
+    contact: Contact | Link, left: ShearBuilding | None, right: ShearBuilding | None, where: str
 ) -> list[tuple[int, int]]:
     """(left floor, right floor) pairs of a contact, 1-based (0 = a base slab), 0 on a wall side;
     ``where`` names the contact in errors."""
@@ -371,7 +438,9 @@ def _floor_pairs(
 
 
 def assemble(
-    buildings: Sequence[ShearBuilding], contacts: Sequence[Contact] = ()
+    buildings: Sequence[ShearBuilding],
+    contacts: Sequence[Contact] = (),
+    links: Sequence[Link] = (),
 ) -> PoundingSystem:
     """Assemble buildings (listed left to right) and contacts into a :class:`PoundingSystem`.
 
@@ -503,6 +572,50 @@ def assemble(
         ),
         base_dof=base_dof,
         friction=_friction_elements(buildings, base_dof),
+        links=_link_elements(links, buildings, index, offsets),
+        link_specs=tuple(links),
+    )
+
+
+def _link_elements(
+    links: Sequence[Link],
+    buildings: tuple[ShearBuilding, ...],
+    index: dict[str, int],
+    offsets: np.ndarray,
+) -> LinkElements:
+    """One row per linked floor pair: the dofs with the gap elements' signs (δ = u_left − u_right)."""
+    rows = []
+    names = list(index)
+    for g, link in enumerate(links):
+        where = f"link[{g}] {link.left!r}-{link.right!r}"
+        for key, side in (("left", link.left), ("right", link.right)):
+            if side not in index:
+                raise PoundingInputError(
+                    f"{where}: {key} = {side!r}: unknown building; allowed: {', '.join(names)}"
+                )
+        li, ri = index[link.left], index[link.right]
+        if ri != li + 1:
+            raise PoundingInputError(
+                f"{where}: links join neighbours in the row (buildings are listed left to right: "
+                f"{', '.join(names)}); {link.left!r} is not immediately left of {link.right!r}"
+            )
+        params = link.parameters(where)
+        law = LINK_LAWS[link.type]
+        for fl, fr in _floor_pairs(link, buildings[li], buildings[ri], where):
+            rows.append((offsets[li] + fl - 1, offsets[ri] + fr - 1, law, params, link, fl, fr, g))
+    if not rows:
+        return LinkElements.empty()
+    return LinkElements(
+        dof=np.array([(r[0], r[1]) for r in rows], dtype=np.int64),
+        sign=np.array([(LEFT_SIGN, RIGHT_SIGN)] * len(rows), dtype=float),
+        law_id=np.array([r[2].kernel_id for r in rows], dtype=np.int64),
+        params=np.array([r[3] for r in rows], dtype=float),
+        left=tuple(r[4].left for r in rows),
+        right=tuple(r[4].right for r in rows),
+        left_floor=np.array([r[5] for r in rows], dtype=np.int64),
+        right_floor=np.array([r[6] for r in rows], dtype=np.int64),
+        law=tuple(r[2].name for r in rows),
+        group=np.array([r[7] for r in rows], dtype=np.int64),
     )
 
 

@@ -77,6 +77,9 @@ def test_laws_lists_every_law_and_alias():
     assert res.exit_code == 0
     for name in ("linear", "kelvin_approach", "hertz_kelvin", "hertzdamp", "ye", "impact_material"):
         assert name in res.output
+    links = res.output.split("coupling link types")[1]
+    for name in ("kelvin:", "viscous:", "maxwell:"):
+        assert name in links
 
 
 def test_laws_restitution_json_keys_match_hertz_closed_form():

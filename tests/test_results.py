@@ -71,6 +71,8 @@ def test_schema_has_the_issue_names_and_dims(pair):
         "contact_stored",
         "friction_dissipated",
         "algorithmic",
+        "link_dissipated",
+        "link_stored",
     ]
     assert "energy_balance_error" in pair.attrs
 

@@ -25,7 +25,7 @@ from pounding.integrators._dispatch import (  # noqa: F401
     friction_hysteretic_eval,
 )
 from pounding.integrators._events import _hermite, first_drop, ground_at, hermite_root  # noqa: F401
-from pounding.integrators._families import commit_elements, eval_gaps, gap_openings
+from pounding.integrators._families import eval_gaps, gap_openings
 from pounding.integrators._layout import *  # noqa: F403  (re-exported: the layouts)
 from pounding.integrators._layout import (
     CNT_FRICTION,
@@ -591,8 +591,7 @@ def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every
                 if algorithmic:
                     residual(md, g1, tr.u1, tr.v1, tr.a1, gaps, tr.f1, fr, el, ls.r0)
             # accept
-            accept(g1, md, x0, tr, gaps, fr, out)
-            commit_elements(el)
+            accept(g1, md, x0, tr, gaps, fr, el, out)
             t = t + hs
             ctl[CT_GSTART] = g1
         if (k + 1) % out_every == 0:

@@ -91,9 +91,11 @@ LoopState = namedtuple("LoopState", "u v a ctl en r0 r1 none_off open_off")
 Options = namedtuple(
     "Options", "tol max_iter max_halvings locate_onset d_tol v0_floor adaptive steps_per_contact h"
 )
-#: Output buffers: u, v, a, ground, δ, F, energy, friction force, stick flag per output row; peaks;
+#: Output buffers: u, v, a, ground, δ, F, energy, friction force, stick flag, element-family force
+#: per output row; peaks;
 #: the impact log (element, values) and the counters.
 Output = namedtuple(
     "Output",
-    "u v a ag d f e ff st peak_u peak_drift peak_aabs peak_f peak_d imp_el imp_val counters",
+    "u v a ag d f e ff st lf peak_u peak_drift peak_aabs peak_f peak_d peak_lf imp_el imp_val "
+    "counters",
 )

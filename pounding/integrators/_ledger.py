@@ -8,7 +8,7 @@ import numpy as np
 from pounding._numba import jit_inline, jit_internal, jit_kernel
 from pounding.integrators._dispatch import contact_stored_energy
 from pounding.integrators._events import ground_at, hermite_root
-from pounding.integrators._families import elements_stored
+from pounding.integrators._families import commit_elements, elements_stored
 from pounding.integrators._layout import (
     CNT_IMPACTS,
     CNT_STATUS,
@@ -213,8 +213,9 @@ def log_impacts(t, hs, tr, gaps, wk, opts, out):
 
 
 @jit_inline
-def accept(g1, md, x0, tr, gaps, fr, out):
-    """The trial end becomes the step start; peaks are updated."""
+def accept(g1, md, x0, tr, gaps, fr, el, out):
+    """The trial end becomes the step start (the element families commit their trial state);
+    peaks are updated."""
     u, v, a = x0
     for i in range(u.size):
         u[i] = tr.u1[i]
@@ -241,6 +242,10 @@ def accept(g1, md, x0, tr, gaps, fr, out):
     for k in range(fr.dof.size):
         fr.state[k, FS_F0] = fr.state[k, FS_F1]
         fr.state[k, FS_Z0] = fr.state[k, FS_Z1]
+    for j in range(el.kind.size):
+        if abs(el.f1[j]) > out.peak_lf[j]:
+            out.peak_lf[j] = abs(el.f1[j])
+    commit_elements(el)
 
 
 @jit_internal
@@ -263,6 +268,8 @@ def store(row, t, md, x0, gaps, fr, el, en, out):
     for k in range(fr.dof.size):
         out.ff[row, k] = fr.state[k, FS_F0]
         out.st[row, k] = fr.state[k, FS_STUCK]
+    for j in range(el.kind.size):
+        out.lf[row, j] = el.f0[j]
     e = out.e
     e[row, 0] = en[EN_INPUT]
     e[row, 1] = 0.5 * _band_quadratic(md.MbT, md.bw, v)
@@ -272,7 +279,6 @@ def store(row, t, md, x0, gaps, fr, el, en, out):
     e[row, 5] = stored
     e[row, 6] = en[EN_FRICTION]
     e[row, 7] = en[EN_ALG]
-    if e.shape[1] > 9:
-        el_stored = elements_stored(el)
-        e[row, 8] = en[EN_ELEMENTS] - el_stored
-        e[row, 9] = el_stored
+    el_stored = elements_stored(el)
+    e[row, 8] = en[EN_ELEMENTS] - el_stored
+    e[row, 9] = el_stored

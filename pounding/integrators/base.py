@@ -34,6 +34,8 @@ ENERGY_TERMS = (
     "contact_stored",
     "friction_dissipated",
     "algorithmic",
+    "link_dissipated",
+    "link_stored",
 )
 
 #: Fields of :attr:`RawResult.impacts`, one array per field, one entry per impact.
@@ -95,7 +97,10 @@ class RawResult:
     energy includes a friction pendulum's restoring potential ½ (W/R) u_b²; ``friction_dissipated``
     is the work of the friction forces ∫ f u̇_b dt; ``algorithmic`` the energy the time-stepping
     scheme itself removes (zero for average acceleration and for the ivp path; HHT's numerical
-    damping; see :mod:`pounding.integrators.newmark`).
+    damping; see :mod:`pounding.integrators.newmark`). Per coupling link
+    (:class:`pounding.system.LinkElements`): ``link_force`` [N] on the output grid and
+    ``peak_link_force`` (absolute maximum over every step); ``link_stored`` is the energy its
+    spring holds, ``link_dissipated`` the rest of the work its force did.
     """
 
     time: np.ndarray
@@ -115,6 +120,8 @@ class RawResult:
     info: dict[str, Any]
     friction_force: np.ndarray | None = None
     stick: np.ndarray | None = None
+    link_force: np.ndarray | None = None
+    peak_link_force: np.ndarray | None = None
 
 
 def response_scales(system: PoundingSystem, ground: GroundMotion) -> tuple[float, float]:

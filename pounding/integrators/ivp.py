@@ -428,6 +428,8 @@ class _Model:
                 stored_sum,
                 y[self.i_fric] if self.nf else np.zeros(t.size),
                 np.zeros(t.size),  # algorithmic: none, the integration error is controlled instead
+                np.zeros(t.size),  # link_dissipated, link_stored: no links on this path
+                np.zeros(t.size),
             )
         )
         below = np.where(self.below >= 0, u[:, np.maximum(self.below, 0)], 0.0)
@@ -825,6 +827,11 @@ def integrate_ivp(
     .. [2] Hairer, E., Nørsett, S.P., Wanner, G. (1993). Solving Ordinary Differential Equations I,
        2nd ed. Springer.
     """
+    if len(system.links):
+        raise PoundingInputError(
+            f"the system has {len(system.links)} coupling link(s); analysis.method = 'ivp' does "
+            "not integrate links; allowed with links: newmark, linear_acceleration, hht"
+        )
     method, rtol, atol, max_step, times = _validate(method, rtol, atol, max_step, output_times)
     if not isinstance(system, PoundingSystem):
         raise PoundingInputError(f"system = {type(system).__name__}; allowed: a PoundingSystem")

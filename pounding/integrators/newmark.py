@@ -312,12 +312,13 @@ def integrate_newmark(
                                _f64(fr.fr_params), _f64(fr.fr_bouc_wen), _f64(fr.fr_normal),
                                np.zeros((n_fr, kn.N_FS)), np.zeros(n_fr),
                                np.zeros(n_fr, dtype=np.bool_))  # fmt: skip
+        m = len(families.kind)
         out = kn.Output(
             np.zeros((n_out, n)), np.zeros((n_out, n)), np.zeros((n_out, n)), np.zeros(n_out),
             np.zeros((n_out, n_el)), np.zeros((n_out, n_el)),
             np.zeros((n_out, len(ENERGY_TERMS))), np.zeros((n_out, n_fr)),
-            np.zeros((n_out, n_fr)), np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_el),
-            np.zeros(n_el), np.zeros(impact_capacity, dtype=np.int64),
+            np.zeros((n_out, n_fr)), np.zeros((n_out, m)), np.zeros(n), np.zeros(n), np.zeros(n),
+            np.zeros(n_el), np.zeros(n_el), np.zeros(m), np.zeros(impact_capacity, dtype=np.int64),
             np.zeros((impact_capacity, kn.IMP_COLUMNS)), np.zeros(kn.N_COUNTERS, dtype=np.int64),
         )  # fmt: skip
         t_reached = kn.newmark_run(sy, kn.Scheme(sch.gamma, sch.beta, sch.alpha), gaps, friction,
@@ -359,6 +360,8 @@ def integrate_newmark(
         impacts=impacts,
         friction_force=out.ff,
         stick=out.st,
+        link_force=out.lf,
+        peak_link_force=out.peak_lf,
         info={
             "integrator": sch.name,
             "gamma": sch.gamma,

@@ -1,0 +1,260 @@
+"""Coupling links: the first element family beyond gaps and friction, integrated by the Newmark core
+without a change to its time loop; each law checked against a closed form or an independent
+solve_ivp integration."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from pounding import PoundingInputError, simulate
+from pounding.case import case_from_dict
+from pounding.ground_motion import sine_pulse
+from pounding.links import LINK_LAWS, maxwell_link_kernel, viscous_link_kernel
+from pounding.structure import ShearBuilding
+from pounding.system import LEFT_SIGN, RIGHT_SIGN, Contact, Link, assemble
+
+
+def _pair(n_left: int = 3, n_right: int = 5):
+    return [
+        ShearBuilding.uniform("A", n_left, period=0.3, mass=2.0e5),
+        ShearBuilding.uniform("B", n_right, period=0.9, mass=2.0e5),
+    ]
+
+
+def _with_link_in_matrices(system, k: float, c: float):
+    """The same system with each link's spring and dashpot assembled into K and C instead."""
+    K = system.stiffness.copy()
+    C = system.damping.copy()
+    for (a, b), (sa, sb) in zip(system.links.dof, system.links.sign, strict=True):
+        bvec = np.zeros(system.n_dof)
+        bvec[a] += sa
+        bvec[b] += sb
+        K += k * np.outer(bvec, bvec)
+        C += c * np.outer(bvec, bvec)
+    return dataclasses.replace(
+        system, stiffness=K, damping=C, links=type(system.links).empty(), link_specs=()
+    )
+
+
+@pytest.mark.parametrize("method", ["newmark", "hht"])
+def test_linear_link_family_equals_the_spring_and_dashpot_assembled_into_k_and_c(method):
+    # the toy family of the element-family design: a linear spring-dashpot between two dofs, integrated
+    # as a family by Newton/Woodbury, against the same spring and dashpot written into K and C
+    k, c = 4.0e7, 3.0e5
+    gm = sine_pulse(amplitude=0.3 * 9.80665, period=0.6, duration=3.0, dt=0.005)
+    linked = assemble(_pair(), [], [Link("A", "B", "kelvin", k=k, c=c)])
+    assert len(linked.links) == 3  # floors 1-3 at common elevations
+    assert np.all(linked.links.sign == [LEFT_SIGN, RIGHT_SIGN])
+    in_matrices = _with_link_in_matrices(linked, k, c)
+    opts = dict(method=method, dt=0.002, output_dt=0.01)
+    a = simulate(linked, gm, **opts)
+    b = simulate(in_matrices, gm, **opts)
+    scale = float(abs(b["displacement"]).max())
+    assert scale > 0.005
+    assert float(abs(a["displacement"] - b["displacement"]).max()) < 1e-8 * scale
+    np.testing.assert_allclose(a["peak_drift_ratio"], b["peak_drift_ratio"], rtol=1e-7)
+    # the ledger moves the link's energy from strain and damping to its own terms, and still closes
+    ea, eb = a["energy"].isel(time=-1), b["energy"].isel(time=-1)
+    e_in = float(eb.sel(term="input"))
+    for term in ("input", "kinetic"):
+        assert float(ea.sel(term=term)) == pytest.approx(float(eb.sel(term=term)), rel=1e-6)
+    strain = float(ea.sel(term="strain") + ea.sel(term="link_stored"))
+    assert strain == pytest.approx(float(eb.sel(term="strain")), abs=1e-6 * e_in)
+    damping = float(ea.sel(term="damping") + ea.sel(term="link_dissipated"))
+    assert damping == pytest.approx(float(eb.sel(term="damping")), abs=1e-6 * e_in)
+    assert float(ea.sel(term="link_dissipated")) > 0.01 * e_in
+    assert a.attrs["energy_balance_error"] < 1e-6
+    # the link force: k δ + c δ̇ of the floors it joins, with the gap elements' sign convention
+    u = a["displacement"]
+    v = a["velocity"]
+    for j in range(3):
+        d = u.sel(building="A", floor=j + 1) - u.sel(building="B", floor=j + 1)
+        dd = v.sel(building="A", floor=j + 1) - v.sel(building="B", floor=j + 1)
+        np.testing.assert_allclose(
+            a["link_force"].isel(link=j), k * d + c * dd, rtol=0, atol=1e-6 * k * scale
+        )
+    assert float(a["peak_link_force"].max()) >= float(abs(a["link_force"]).max())
+
+
+@pytest.mark.parametrize("alpha", [0.35, 0.5, 1.0])
+def test_viscous_damper_dissipates_soong_dargush_energy_per_harmonic_cycle(alpha):
+    # E = λ c ω^α X^(1+α), λ = 2^(2+α) Γ²(1+α/2)/Γ(2+α) (Soong & Dargush 1997): π for α = 1
+    c, x_amp, omega = 2.0e5, 0.02, 2.0 * math.pi / 0.8
+    lam = 2.0 ** (2.0 + alpha) * math.gamma(1.0 + alpha / 2.0) ** 2 / math.gamma(2.0 + alpha)
+    expected = lam * c * omega**alpha * x_amp ** (1.0 + alpha)
+    p = np.array([c, alpha, 1e-6])
+    t = np.linspace(0.0, 2.0 * math.pi / omega, 200001)
+    dd = x_amp * omega * np.cos(omega * t)
+    s = np.zeros(2)
+    f = np.array([viscous_link_kernel(0.0, v, 0.0, s, s, p)[0] for v in dd])
+    work = float(np.sum(0.5 * (f[1:] * dd[1:] + f[:-1] * dd[:-1]) * np.diff(t)))
+    assert work == pytest.approx(expected, rel=1e-5)
+    if alpha == 1.0:
+        assert lam == pytest.approx(math.pi)
+
+
+def test_maxwell_link_update_is_the_exact_solution_at_a_constant_rate():
+    # k(δ − x_d) = c ẋ_d = F with δ̇ constant: F(t) = c δ̇ (1 − e^(−t/τ)) + F0 e^(−t/τ), τ = c/k
+    k, c, rate, f0, h = 3.0e7, 6.0e5, 0.05, 1.2e4, 0.013
+    tau = c / k
+    s0 = np.array([f0, 0.001])
+    s1 = np.zeros(2)
+    f, kd, cd = maxwell_link_kernel(0.001 + rate * h, rate, h, s0, s1, np.array([k, c, 0.0]))
+    exact = c * rate * (1.0 - math.exp(-h / tau)) + f0 * math.exp(-h / tau)
+    assert f == pytest.approx(exact, rel=1e-12)
+    assert s1[0] == f and cd == 0.0
+    assert kd == pytest.approx(c / h * (1.0 - math.exp(-h / tau)), rel=1e-12)
+    assert kd < k  # softer than the spring alone: the dashpot relaxes within the step
+
+
+def _two_sdof_with_link(link: Link):
+    blds = [
+        ShearBuilding.uniform("A", 1, period=0.5, mass=2.0e5),
+        ShearBuilding.uniform("B", 1, period=1.1, mass=3.0e5),
+    ]
+    return assemble(blds, [], [link])
+
+
+def _reference(system, gm, t_end, law: str, p):
+    """An independent 2-dof integration (DOP853, rtol 1e-11) with the link force written out."""
+    M, C, K = system.mass, system.damping, system.stiffness
+    m_inv = np.linalg.inv(M)
+
+    def force(y):
+        dd = y[2] - y[3]
+        if law == "viscous":
+            v = abs(dd)
+            return c_lin * dd if v < p[2] else math.copysign(p[0] * v ** p[1], dd)
+        return y[4]  # maxwell: F is a state, Ḟ = k δ̇ − F/τ
+
+    c_lin = p[0] * p[2] ** p[1] / p[2] if law == "viscous" else 0.0
+
+    def rhs(t, y):
+        u, v = y[:2], y[2:4]
+        f = force(y)
+        load = -M @ np.ones(2) * gm.at(t) - C @ v - K @ u - np.array([f, -f])
+        out = [*v, *(m_inv @ load)]
+        if law == "maxwell":
+            out.append(p[0] * (v[0] - v[1]) - f * p[0] / p[1])
+        # the work of the link force on the relative motion
+        out.append(f * (v[0] - v[1]))
+        return out
+
+    y0 = np.zeros(6 if law == "maxwell" else 5)
+    breaks = np.arange(0.0, t_end + 1e-12, gm.dt)
+    ys = [y0]
+    for t0, t1 in zip(breaks[:-1], breaks[1:], strict=True):  # restart at every record sample
+        sol = solve_ivp(rhs, (t0, t1), ys[-1], method="DOP853", rtol=1e-11, atol=1e-13)
+        ys.append(sol.y[:, -1])
+    return breaks, np.array(ys)
+
+
+@pytest.mark.parametrize(
+    "link",
+    [
+        Link("A", "B", "viscous", c=8.0e5, alpha=0.5, v_lin=1e-3),
+        Link("A", "B", "maxwell", k=2.0e7, c=1.0e6),
+    ],
+    ids=["viscous_alpha_0.5", "maxwell"],
+)
+def test_nonlinear_links_match_an_independent_solve_ivp_integration(link):
+    system = _two_sdof_with_link(link)
+    gm = sine_pulse(amplitude=0.35 * 9.80665, period=0.7, duration=2.0, dt=0.01)
+    ds = simulate(system, gm, method="newmark", dt=2.5e-4, output_dt=0.01)
+    t_ref, y = _reference(system, gm, float(ds["time"][-1]), link.type, system.links.params[0])
+    u = ds["displacement"].sel(floor=1).transpose("time", "building").values
+    scale = float(np.abs(y[:, :2]).max())
+    assert scale > 0.01
+    np.testing.assert_allclose(u, y[:, :2], rtol=0, atol=2e-4 * scale)
+    # the link's work: dissipated plus stored equals the reference's ∫F δ̇ dt
+    e = ds["energy"].isel(time=-1)
+    work = float(e.sel(term="link_dissipated") + e.sel(term="link_stored"))
+    assert work == pytest.approx(float(y[-1, -1]), rel=2e-3)
+    assert float(e.sel(term="link_dissipated")) > 0.0
+    assert ds.attrs["energy_balance_error"] < 1e-4
+
+
+def test_link_input_errors_name_the_field_and_the_allowed_values():
+    blds = _pair()
+    with pytest.raises(
+        PoundingInputError, match="type = 'spring'; allowed: kelvin, viscous, maxwell"
+    ):
+        assemble(blds, [], [Link("A", "B", "spring", k=1e7)])
+    with pytest.raises(
+        PoundingInputError, match=r"c \[N \(s/m\)\^alpha\] is required by 'viscous'"
+    ):
+        assemble(blds, [], [Link("A", "B", "viscous")])
+    with pytest.raises(PoundingInputError, match="k = -1.0; allowed: a finite number >= 0"):
+        assemble(blds, [], [Link("A", "B", "kelvin", k=-1.0)])
+    with pytest.raises(PoundingInputError, match="needs k > 0 and c > 0"):
+        assemble(blds, [], [Link("A", "B", "maxwell", k=1e7, c=0.0)])
+    with pytest.raises(PoundingInputError, match="alpha not used by type = 'kelvin'"):
+        assemble(blds, [], [Link("A", "B", "kelvin", k=1e7, alpha=0.5)])
+    with pytest.raises(PoundingInputError, match="right = 'C': unknown building"):
+        assemble(blds, [], [Link("A", "C", k=1e7)])
+    with pytest.raises(PoundingInputError, match="not immediately left of"):
+        assemble(blds, [], [Link("B", "A", k=1e7)])
+    linked = assemble(blds, [], [Link("A", "B", k=1e7)])
+    gm = sine_pulse(amplitude=1.0, period=0.5, duration=0.5, dt=0.01)
+    with pytest.raises(PoundingInputError, match="allowed with links: newmark"):
+        simulate(linked, gm, method="ivp")
+    assert set(LINK_LAWS) == {"kelvin", "viscous", "maxwell"}
+
+
+def test_case_file_link_table_runs_with_contacts_and_a_baseline():
+    case = case_from_dict(
+        {
+            "building": [
+                {"name": "A", "n_floors": 2, "period": 0.3, "mass": 2e5},
+                {"name": "B", "n_floors": 4, "period": 0.8, "mass": 2e5},
+            ],
+            "contact": [{"left": "A", "right": "B", "gap": 0.01, "law": "linear", "k": 2e9}],
+            "link": [
+                {
+                    "left": "A",
+                    "right": "B",
+                    "type": "viscous",
+                    "c": 4e5,
+                    "alpha": 0.4,
+                    "floors": [[2, 2]],
+                },
+            ],  # fmt: skip
+            "ground_motion": {
+                "type": "sine_pulse",
+                "amplitude": 0.4,
+                "units": "g",
+                "period": 0.7,
+                "duration": 2.0,
+            },  # fmt: skip
+            "analysis": {"method": "newmark", "dt": 0.001, "output_dt": 0.01},
+        },
+        source="test",
+    )
+    assert case.system.links.law == ("viscous",)
+    ds = simulate(case, baseline=True)
+    assert ds.sizes["link"] == 1 and str(ds["link_type"].values[0]) == "viscous"
+    assert int(ds["link_left_floor"][0]) == 2 and ds["link_force"].attrs["units"] == "N"
+    assert float(ds["energy"].isel(time=-1).sel(term="link_dissipated")) > 0.0
+    assert "no_contact_peak_displacement" in ds  # the baseline keeps the link, drops the contact
+    with pytest.raises(PoundingInputError, match=r"link\[0\]"):
+        case_from_dict(
+            {**case.data, "link": [{"left": "A", "right": "B", "kind": "kelvin", "k": 1.0}]},
+            source="test",
+        )
+    with pytest.raises(PoundingInputError, match=r"link\[0\].floors"):
+        case_from_dict(
+            {**case.data, "link": [{"left": "A", "right": "B", "k": 1.0, "floors": [1]}]},
+            source="test",
+        )
+
+
+def test_a_system_without_links_has_no_link_axis():
+    system = assemble(_pair(), [Contact("A", "B", 0.01, "linear", k=2e9)])
+    ds = simulate(system, sine_pulse(amplitude=2.0, period=0.6, duration=1.0, dt=0.01), dt=0.002)
+    assert "link" not in ds.dims and "link_force" not in ds
+    assert float(abs(ds["energy"].sel(term=["link_dissipated", "link_stored"])).max()) == 0.0
