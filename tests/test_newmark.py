@@ -380,7 +380,8 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
                    v0, d0, f0, None, None, None, f0)  # fmt: skip
     opts = kn.Options(1e-12, 25, 0, True, 0.0, 0.0, False, 20.0, hs)
     wk = kn.Work(None, None, None, None, None, None, np.zeros((4, n_el)),
-                 np.zeros(n_el, dtype=np.int64), np.zeros((n_el, n_el + 1)), None, None, None)  # fmt: skip
+                 np.zeros(n_el, dtype=np.int64), np.zeros(n_el, dtype=np.int64), np.zeros(n_el),
+                 np.zeros((n_el, n_el + 1)), None, None, None, None, None, None, None, None)  # fmt: skip
     ok, its = kn.contact_step(fac, cf, u, gaps, np.zeros(n_el, dtype=bool), opts, tr, wk)
     assert ok and 1 <= its <= 8
     # the full step equations, independently

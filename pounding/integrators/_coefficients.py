@@ -43,12 +43,18 @@ def end_of_step(cf, u, v, a, u1, v1, a1):
 @jit
 def tangent_band(h, Mb, Cb, Kb, sch):
     """Band rows of the tangent without contacts, c0 M + w (c1 C + K), of a step of length h."""
-    cf = newmark_coefficients(h, sch)
     Jb = np.empty_like(Mb)
+    tangent_band_into(h, Mb, Cb, Kb, sch, Jb)
+    return Jb
+
+
+@jit
+def tangent_band_into(h, Mb, Cb, Kb, sch, Jb):
+    """:func:`tangent_band` into Jb, for code that must not allocate."""
+    cf = newmark_coefficients(h, sch)
     for i in range(Mb.shape[0]):
         for k in range(Mb.shape[1]):
             Jb[i, k] = cf.c0 * Mb[i, k] + cf.w * (cf.c1 * Cb[i, k] + Kb[i, k])
-    return Jb
 
 
 @jit

@@ -115,12 +115,10 @@ def _prepare(sy, sch, gaps, fr, el, h):
     Mb = to_band(sy.M, bw)
     Cb = to_band(sy.C, bw)
     Kb = to_band(sy.K, bw)
-    M_inv = np.empty((n, n))
     L_m, D_m = band_ldl(Mb, bw)
-    _band_inverse(L_m, D_m, bw, M_inv)
     dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
     # diagonal-major copies for the quadratic forms of the energy ledger
-    md = Model(sy.M, sy.C, sy.K, Mi, M_inv, Mb, Cb, Kb, _transpose(Mb), _transpose(Cb),
+    md = Model(sy.M, sy.C, sy.K, Mi, L_m, D_m, Mb, Cb, Kb, _transpose(Mb), _transpose(Cb),
                _transpose(Kb), bw, dense, sy.iota, sy.below, sy.ag, sy.ag_dt, sy.x_dof,
                sy.x_sign)  # fmt: skip
     if dense:
@@ -139,8 +137,11 @@ def _prepare(sy, sch, gaps, fr, el, h):
     lin = (np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
     wk = Work(np.zeros(n), np.zeros((n, n)), np.zeros((4, max(n, n_x))), np.zeros((n, m)),
               np.zeros((m, m + 1)), lin, np.zeros((4, n_el)), np.zeros(n_el, dtype=np.int64),
+              np.zeros(n_el, dtype=np.int64), np.zeros(n_el),
               np.zeros((max(n_el, 1), max(n_el, 1) + 1)), np.zeros(n_el),
-              np.zeros(n_el, dtype=np.bool_), np.zeros(n_el, dtype=np.bool_))  # fmt: skip
+              np.zeros(n_el, dtype=np.bool_), np.zeros(n_el, dtype=np.bool_),
+              np.zeros((n, 2 * bw + 1)), np.zeros((n, bw + 1)), np.zeros(n), np.zeros(n),
+              np.zeros(n_x, dtype=np.bool_))  # fmt: skip
     return md, fac_h, fac_c, tr, wk
 
 

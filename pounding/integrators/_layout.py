@@ -55,11 +55,12 @@ N_EN = 6
 
 #: Newmark/HHT coefficients of one scheme (γ, β, α).
 Scheme = namedtuple("Scheme", "gamma beta alpha")
-#: The structure and its excitation: full and band matrices (M, C, K), M ι, M⁻¹, the influence
+#: The structure and its excitation: full and band matrices (M, C, K), M ι, the band LDLᵀ factors
+#: of M, the influence
 #: vector, the dof below each dof (−1 at a base), the ground record and its step, the rows of every
 #: nonlinear element (gaps, then friction, then element families) for the Woodbury update.
 Model = namedtuple(
-    "Model", "M C K Mi M_inv Mb Cb Kb MbT CbT KbT bw dense iota below ag ag_dt x_dof x_sign"
+    "Model", "M C K Mi Lm Dm Mb Cb Kb MbT CbT KbT bw dense iota below ag ag_dt x_dof x_sign"
 )
 #: Gap elements: dofs and signs, gap [m], law id, parameters, undamped contact duration
 #: t_c = tc_coef v0^tc_exp, and their per-element state (in contact, v0 [m/s], δ and force at the
@@ -80,8 +81,13 @@ Factor = namedtuple("Factor", "h L D J_inv Z S Q pg")
 System = namedtuple("System", "M C K iota below ag ag_dt x_dof x_sign")
 #: The trial end of a step: u, v, a and the gaps' δ, δ̇, force, ∂F/∂δ, ∂F/∂δ̇.
 Trial = namedtuple("Trial", "u1 v1 a1 d1 dd1 f1 kd1 cd1")
-#: Scratch arrays (never read before written within a call).
-Work = namedtuple("Work", "R J vec Z S lin cw act Sm theta closing separating")
+#: Scratch arrays (never read before written within a call); Jb, Lw, Dw, e: the band tangent of a
+#: step length without stored factors, its LDLᵀ factors and a unit vector; Z[:, c] the column
+#: J⁻¹ b_c of element row c, and ``have`` the rows whose column is solved within the current step.
+#: nz, phi: the gaps with a nonzero force term α f0 − w f1 of the condensed step, and that term.
+Work = namedtuple(
+    "Work", "R J vec Z S lin cw act nz phi Sm theta closing separating Jb Lw Dw e have"
+)
 #: The loop's own state: u, v, a at the step start, the control array (CT_*), the running energy
 #: sums (EN_*), the residuals at the step's start and end (HHT ledger), and the gaps held open (none;
 #: every open gap while a closure is being located).

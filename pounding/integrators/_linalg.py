@@ -82,6 +82,17 @@ def band_ldl(Jb, bw):
     n = Jb.shape[0]
     L = np.zeros((n, bw + 1))
     D = np.zeros(n)
+    band_ldl_into(Jb, bw, L, D)
+    return L, D
+
+
+@jit
+def band_ldl_into(Jb, bw, L, D):
+    """:func:`band_ldl` into given arrays (L zeroed here), for code that must not allocate."""
+    n = Jb.shape[0]
+    for i in range(n):
+        for k in range(bw + 1):
+            L[i, k] = 0.0
     for j in range(n):
         s = Jb[j, bw]
         for k in range(max(0, j - bw), j):
@@ -95,7 +106,6 @@ def band_ldl(Jb, bw):
             L[i, j - i + bw] = s / D[j]
     for j in range(n):
         D[j] = 1.0 / D[j]  # stored inverted: the solve multiplies
-    return L, D
 
 
 @jit
@@ -220,6 +230,83 @@ def _mv(A, Ab, bw, dense, x, scale, out):
 
 
 @jit
+def woodbury_band_solve(L, D, bw, R, x_dof, x_sign, kc, Zr, have, S, y, x, e):
+    """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R from the band LDLᵀ factors of J alone: J⁻¹ R by a band solve,
+    and the columns J⁻¹ b_c of the rows with kc_c != 0 by band solves kept in Zr[:, c] (``have[c]``)
+    for the later iterations of the same step: O(n bw) per iteration plus O(n bw) per row the first
+    time it acts. Then the Sherman–Morrison–Woodbury correction (kc_c = inf: a constraint). ``e``
+    is scratch (n). Returns False when the small system is singular."""
+    n = R.size
+    band_solve(L, D, bw, R, y)
+    for i in range(n):
+        y[i] = -y[i]
+        e[i] = 0.0
+    m = 0
+    for c in range(kc.size):
+        if kc[c] == 0.0:
+            continue
+        m += 1
+        if have[c]:
+            continue
+        for s in range(2):
+            k = x_dof[c, s]
+            if k >= 0:
+                e[k] += x_sign[c, s]
+        band_solve(L, D, bw, e, x)
+        for i in range(n):
+            Zr[i, c] = x[i]
+        for s in range(2):
+            k = x_dof[c, s]
+            if k >= 0:
+                e[k] = 0.0
+        have[c] = True
+    for i in range(n):
+        x[i] = y[i]
+    if m == 0:
+        return True
+    return _woodbury_correct(n, x_dof, x_sign, kc, Zr, S, y, x, m)
+
+
+@jit
+def _woodbury_correct(n, x_dof, x_sign, kc, Zr, S, y, x, m):
+    """x −= Z (D⁻¹ + Uᵀ Z)⁻¹ Uᵀ y over the m rows with kc != 0, Z[:, c] = J⁻¹ b_c of row c."""
+    rhs_col = S.shape[1] - 1
+    r = 0
+    for c in range(kc.size):
+        if kc[c] == 0.0:
+            continue
+        q = 0
+        for c2 in range(kc.size):
+            if kc[c2] == 0.0:
+                continue
+            acc = 0.0
+            for s in range(2):
+                k = x_dof[c, s]
+                if k >= 0:
+                    acc += x_sign[c, s] * Zr[k, c2]
+            S[r, q] = acc + (1.0 / kc[c] if r == q else 0.0)
+            q += 1
+        acc = 0.0
+        for s in range(2):
+            k = x_dof[c, s]
+            if k >= 0:
+                acc += x_sign[c, s] * y[k]
+        S[r, rhs_col] = acc
+        r += 1
+    if not _solve_small(S, m):
+        return False
+    q = 0
+    for c in range(kc.size):
+        if kc[c] == 0.0:
+            continue
+        g = S[q, rhs_col]
+        for i in range(n):
+            x[i] -= Zr[i, c] * g
+        q += 1
+    return True
+
+
+@jit
 def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
     """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using J⁻¹ and the Sherman–Morrison–Woodbury identity.
 
@@ -249,39 +336,8 @@ def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
                 k = el_dof[c, s]
                 if k >= 0:
                     z += J_inv[i, k] * el_sign[c, s]
-            Z[i, m] = z
+            Z[i, c] = z
         m += 1
     if m == 0:
         return True
-    # S = D⁻¹ + Uᵀ J⁻¹ U with the right-hand side Uᵀ y in its last column
-    rhs_col = S.shape[1] - 1
-    r = 0
-    for c in range(n_el):
-        if kc[c] == 0.0:
-            continue
-        q = 0
-        for c2 in range(n_el):
-            if kc[c2] == 0.0:
-                continue
-            acc = 0.0
-            for s in range(2):
-                k = el_dof[c, s]
-                if k >= 0:
-                    acc += el_sign[c, s] * Z[k, q]
-            S[r, q] = acc + (1.0 / kc[c] if r == q else 0.0)
-            q += 1
-        acc = 0.0
-        for s in range(2):
-            k = el_dof[c, s]
-            if k >= 0:
-                acc += el_sign[c, s] * y[k]
-        S[r, rhs_col] = acc
-        r += 1
-    if not _solve_small(S, m):
-        return False
-    for i in range(n):
-        acc = 0.0
-        for q in range(m):
-            acc += Z[i, q] * S[q, rhs_col]
-        x[i] -= acc
-    return True
+    return _woodbury_correct(n, el_dof, el_sign, kc, Z, S, y, x, m)

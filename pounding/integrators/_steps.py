@@ -18,6 +18,7 @@ from pounding.integrators._coefficients import (
     end_of_step,
     newmark_coefficients,
     tangent_band,
+    tangent_band_into,
     tangent_dense,
 )
 from pounding.integrators._events import ground_at
@@ -41,9 +42,11 @@ from pounding.integrators._linalg import (
     _solve_small,
     _woodbury_solve,
     band_ldl,
+    band_ldl_into,
     band_solve,
     bandwidth,
     to_band,
+    woodbury_band_solve,
 )
 from pounding.system import FRICTION_COULOMB
 
@@ -193,6 +196,19 @@ def condense_map(J_inv, dof, sign, Z, S):
             S[r, c] = acc
 
 
+@jit_internal
+def _forcing(alpha, f0, w, f1, nz, phi):
+    """φ = α f0 − w f1 of every gap and the indices of the nonzero ones (their count returned)."""
+    n_nz = 0
+    for q in range(f0.size):
+        p = alpha * f0[q] - w * f1[q]
+        phi[q] = p
+        if p != 0.0:
+            nz[n_nz] = q
+            n_nz += 1
+    return n_nz
+
+
 @jit_kernel
 def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     """A step with gap elements, condensed onto the gaps. On entry ``tr`` holds the step of the
@@ -214,6 +230,8 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     w = cf.w
     cw = wk.cw
     act = wk.act
+    nz = wk.nz
+    phi = wk.phi
     Sm = wk.Sm
     d1 = tr.d1
     dd1 = tr.dd1
@@ -225,10 +243,17 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     for i in range(n):
         u_scale = max(u_scale, abs(u[i]), abs(tr.u1[i]))
     tol_d = opts.tol * u_scale
-    # start from the forces of the step start (f1 ≈ f0 inside a contact, 0 outside)
+    # start from the forces of the step start (f1 ≈ f0 inside a contact, 0 outside); sums run over
+    # the gaps whose force term is nonzero (nz): O(C A), not O(C²), for a long row with few closed
+    n_nz = 0
+    for q in range(n_el):
+        if f0[q] != 0.0:
+            nz[n_nz] = q
+            n_nz += 1
     for c in range(n_el):
         acc = d_lin[c]
-        for q in range(n_el):
+        for iq in range(n_nz):
+            q = nz[iq]
             acc -= S[c, q] * f0[q]
         d1[c] = acc
     ok = False
@@ -267,10 +292,12 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
             if kq != 0.0:
                 act[n_act] = q
                 n_act += 1
+        n_nz = _forcing(alpha, f0, w, tr.f1, nz, phi)
         for r in range(n_el):
             acc = d1[r] - d_lin[r]
-            for q in range(n_el):
-                acc -= S[r, q] * (alpha * f0[q] - w * tr.f1[q])
+            for iq in range(n_nz):
+                q = nz[iq]
+                acc -= S[r, q] * phi[q]
             cw[3, r] = -acc
         for ia in range(n_act):
             r = act[ia]
@@ -297,10 +324,12 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
             break
         small = big <= tol_d
     if ok:
+        n_nz = _forcing(alpha, f0, w, tr.f1, nz, phi)
         for i in range(n):
             acc = 0.0
-            for c in range(n_el):
-                acc += Z[i, c] * (alpha * f0[c] - w * tr.f1[c])
+            for iq in range(n_nz):
+                c = nz[iq]
+                acc += Z[i, c] * phi[c]
             tr.u1[i] += acc
             tr.v1[i] += cf.c1 * acc
             tr.a1[i] += cf.c0 * acc
@@ -328,6 +357,14 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
     alpha = cf.alpha
     g_eff = w * ground_at(md.ag, md.ag_dt, t + hs) - alpha * ground_at(md.ag, md.ag_dt, t)
     known = abs(hs - fac.h[0]) <= 1e-8 * fac.h[0]
+    # another step length: factor its band tangent once (O(n bw²)); each iteration then solves by
+    # band solves and the Woodbury update, O(n bw (1 + m)), not the dense O(n³) elimination
+    banded = not known and not md.dense
+    if banded:
+        tangent_band_into(hs, md.Mb, md.Cb, md.Kb, sch, wk.Jb)
+        band_ldl_into(wk.Jb, md.bw, wk.Lw, wk.Dw)
+        for c in range(n_x):
+            wk.have[c] = False
     old = wk.vec[0]
     y = wk.vec[1]
     step = wk.vec[2]
@@ -374,6 +411,9 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
         if known:
             solved = _woodbury_solve(fac.J_inv, fac.L, fac.D, md.bw, md.dense, R, md.x_dof,
                                      md.x_sign, kc, wk.Z, wk.S, y, step)  # fmt: skip
+        elif banded:
+            solved = woodbury_band_solve(wk.Lw, wk.Dw, md.bw, R, md.x_dof, md.x_sign, kc, wk.Z,
+                                         wk.have, wk.S, y, step, wk.e)  # fmt: skip
         if not solved:
             J = wk.J
             tangent_dense(cf, md.M, md.C, md.K, J)
@@ -445,10 +485,9 @@ def equilibrium(g1, md, tr, gaps, fr, el, rhs):
     st = fr.state
     broke = False
     for i in range(n):
-        acc = -md.Mi[i] * g1
-        for j in range(n):
-            acc -= md.C[i, j] * v1[j] + md.K[i, j] * u1[j]
-        rhs[i] = acc
+        rhs[i] = -md.Mi[i] * g1
+    _band_matvec_add(md.Cb, md.bw, v1, -1.0, rhs)
+    _band_matvec_add(md.Kb, md.bw, u1, -1.0, rhs)
     add_forces(rhs, -1.0, gaps, tr.f1, el, el.f1)
     add_friction(rhs, -1.0, fr, FS_F1, True)
     for k in range(fr.dof.size):
@@ -464,11 +503,7 @@ def equilibrium(g1, md, tr, gaps, fr, el, rhs):
             st[k, FS_F1] = st[k, FS_DIR] * fr.params[k, 1] * fr.normal[k]
             broke = True
             rhs[b] -= st[k, FS_F1]
-    for i in range(n):
-        acc = 0.0
-        for j in range(n):
-            acc += md.M_inv[i, j] * rhs[j]
-        tr.a1[i] = acc
+    band_solve(md.Lm, md.Dm, md.bw, rhs, tr.a1)
     for k in range(fr.dof.size):
         if st[k, FS_STUCK] != 0.0:
             tr.a1[fr.dof[k]] = 0.0
