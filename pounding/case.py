@@ -348,6 +348,19 @@ def _contact(spec: Mapping[str, Any], where: str) -> Contact:
     return Contact(**spec)
 
 
+def _each(specs: list[Mapping[str, Any]], table: str, build: Any) -> list[Any]:
+    """``build(spec, "table[i]")`` of every table of an array; errors name the table and index."""
+    out = []
+    for i, spec in enumerate(specs):
+        try:
+            out.append(build(spec, f"{table}[{i}]"))
+        except CaseError:
+            raise
+        except (ValueError, TypeError) as exc:
+            raise CaseError(f"{table}[{i}]: {exc}") from None
+    return out
+
+
 def _link(spec: Mapping[str, Any], where: str) -> Link:
     spec = _checked(spec, _LINK_KEYS, where)
     floors = spec.get("floors", "common")
@@ -457,35 +470,14 @@ def case_from_dict(
                 f'output.floor_spectra = {frs!r}; allowed: "roof", "all" or a non-empty list '
                 "of floor numbers >= 1"
             )
-        buildings = []
-        for i, spec in enumerate(blds):
-            try:
-                buildings.append(_building(spec, f"building[{i}]"))
-            except CaseError:
-                raise
-            except (ValueError, TypeError) as exc:
-                raise CaseError(f"building[{i}]: {exc}") from None
-        contacts = []
-        for i, spec in enumerate(cons):
-            try:
-                contacts.append(_contact(spec, f"contact[{i}]"))
-            except CaseError:
-                raise
-            except (ValueError, TypeError) as exc:
-                raise CaseError(f"contact[{i}]: {exc}") from None
+        buildings = _each(blds, "building", _building)
+        contacts = _each(cons, "contact", _contact)
         lks = data.get("link", [])
         if not isinstance(lks, list) or not all(isinstance(c, Mapping) for c in lks):
             raise CaseError(
                 f"link = {lks!r}; allowed: [[link]] tables (an array of tables), or none"
             )
-        links = []
-        for i, spec in enumerate(lks):
-            try:
-                links.append(_link(spec, f"link[{i}]"))
-            except CaseError:
-                raise
-            except (ValueError, TypeError) as exc:
-                raise CaseError(f"link[{i}]: {exc}") from None
+        links = _each(lks, "link", _link)
         try:
             system = assemble(buildings, contacts, links)
         except ValueError as exc:
