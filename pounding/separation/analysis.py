@@ -287,18 +287,7 @@ def separation_analysis(
         raise TypeError(
             "separation_analysis takes a Case (pounding.separation.load_separation_case)"
         )
-    if options is None:
-        options = SeparationOptions.from_mapping(case.data.get("separation", {}))
-    elif not isinstance(options, SeparationOptions):
-        options = SeparationOptions.from_mapping(options)
-    if records is None:
-        grounds = _grounds_from_options(case, options.records)
-    else:
-        records = list(records)
-        if all(isinstance(r, str) for r in records):
-            grounds = _grounds_from_options(case, records)
-        else:
-            grounds = _as_grounds(case, records)
+    options, grounds = _options_and_grounds(case, records, options)
     system, opts = _system_and_options(case, analysis)
     pairs = facing_pairs(system)
     if not pairs:
@@ -306,13 +295,125 @@ def separation_analysis(
             "the case has no facing points: give at least two buildings with a floor at a common "
             "elevation, or contacts with explicit floors or walls"
         )
+    pk = _peaks(system, grounds, opts, pairs, options)
+    estimates = _estimate_names(options)
+    per_pair = np.full((pk.n_rec, len(pairs), len(estimates)), np.nan)
+    rho_pair = np.full(len(pairs), np.nan)
+    for p, pair in enumerate(pairs):
+        cols, rho_pair[p] = _pair_estimates(pk, p, pair, options)
+        for e, name in enumerate(estimates):
+            per_pair[:, p, e] = cols[name]
+    interfaces = list(dict.fromkeys(p.interface for p in pairs))
+    members = [np.array([p.interface == f for p in pairs]) for f in interfaces]
+    required = np.stack([per_pair[:, m, :].max(axis=1) for m in members], axis=1)
+    stats = np.stack(
+        [
+            np.median(required, axis=0),
+            np.percentile(required, 84.0, axis=0),
+            required.max(axis=0),
+        ],
+        axis=-1,
+    )  # (interface, estimate, statistic)
+    # probability of pounding versus gap, per interface
+    gstar = required[:, :, estimates.index("time_history")]  # (record, interface)
+    gap_grid, probability = _probability(gstar, options)
+    width = pk.width
+    data = {
+        "natural_period": (("building", "mode"), _pad([m.periods for m in pk.modals], width)),
+        "modal_damping_ratio": (
+            ("building", "mode"),
+            _pad([m.damping_ratios for m in pk.modals], width),
+        ),
+        "spectral_displacement": (("record", "building", "mode"), pk.sd),
+        "peak_displacement_time_history": (("record", "building", "floor"), pk.peak_th),
+        "peak_displacement_srss": (("record", "building", "floor"), pk.peak_srss),
+        "peak_displacement_cqc": (("record", "building", "floor"), pk.peak_cqc),
+        "exact_gap": (("record", "pair"), pk.exact),
+        "pair_correlation": (("pair",), rho_pair),
+        "required_gap_pair": (("record", "pair", "estimate"), per_pair),
+        "required_gap": (("record", "interface", "estimate"), required),
+        "required_gap_statistic": (("interface", "estimate", "statistic"), stats),
+        **probability,
+        "case_gap": (("interface",), _case_gaps(case, interfaces)),
+    }
+    modes = np.arange(1, width + 1)
+    coords = {
+        "record": _unique_names(grounds),
+        **_pair_coords(pairs),
+        "interface": interfaces,
+        "estimate": estimates,
+        "estimate_label": ("estimate", [ESTIMATES[e][0] for e in estimates]),
+        "estimate_basis": ("estimate", [ESTIMATES[e][1] for e in estimates]),
+        "statistic": list(STATISTICS),
+        "gap": gap_grid,
+        "building": [b.name for b in system.buildings],
+        "floor": modes,
+        "mode": modes,
+    }
+    ds = xr.Dataset(data, coords=coords)
+    _apply_attrs(ds)
+    ds.attrs.update(_separation_attrs(case, options, pk))
+    return ds
+
+
+def _options_and_grounds(
+    case: Case, records: Any, options: Any
+) -> tuple[SeparationOptions, list[GroundMotion]]:
+    """The separation options (given, or the case's [separation] table) and the record suite."""
+    if options is None:
+        options = SeparationOptions.from_mapping(case.data.get("separation", {}))
+    elif not isinstance(options, SeparationOptions):
+        options = SeparationOptions.from_mapping(options)
+    if records is None:
+        return options, _grounds_from_options(case, options.records)
+    records = list(records)
+    if all(isinstance(r, str) for r in records):
+        return options, _grounds_from_options(case, records)
+    return options, _as_grounds(case, records)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class _Peaks:
+    """Peak floor displacements of every building by every estimate, per record: spectral
+    displacements ``sd`` and modal contributions ``contrib`` (per building: record, floor, mode),
+    the time histories ``th`` with their exact gaps ``exact`` (record, pair), and the SRSS, CQC and
+    time-history peaks (record, building, floor)."""
+
+    system: Any
+    index: dict[str, int]
+    modals: list[Any]
+    width: int
+    n_rec: int
+    sd: np.ndarray
+    contrib: list[np.ndarray]
+    th: list[Any]
+    exact: np.ndarray
+    peak_srss: np.ndarray
+    peak_cqc: np.ndarray
+    peak_th: np.ndarray
+
+    def at(self, name: str, floor: int, peaks: np.ndarray) -> np.ndarray:
+        """One end of a facing pair: the peaks of building ``name`` at ``floor`` per record (0 for
+        a wall). An isolated building's base slab (floor 0) has its time-history peak; fixed-base
+        modal spectra (and the code rules built on them) say nothing about a sliding slab."""
+        if name == WALL:
+            return np.zeros(self.n_rec)
+        if floor == 0:
+            if peaks is self.peak_th:
+                dof = int(self.system.base_dof[self.index[name]])
+                return np.array([t.peak_displacement[dof] for t in self.th])
+            return np.full(self.n_rec, np.nan)
+        return peaks[:, self.index[name], floor - 1]
+
+
+def _peaks(system: Any, grounds: list[GroundMotion], opts: Any, pairs: list[FacingPair],
+           options: SeparationOptions) -> _Peaks:  # fmt: skip
+    """Spectra first (cheap, and a bad design-spectrum parameter fails before any integration),
+    then the time histories and the modal combinations."""
     blds = system.buildings
-    index = {b.name: i for i, b in enumerate(blds)}
     modals = [b.modal() for b in blds]
     width = max(b.n_floors for b in blds)
-    n_rec, n_pair = len(grounds), len(pairs)
-
-    # spectra first (cheap, and a bad design-spectrum parameter fails before any integration)
+    n_rec = len(grounds)
     params = options.spectrum_parameters()
     sd = np.full((n_rec, len(blds), width), np.nan)
     for k, gm in enumerate(grounds):
@@ -325,7 +426,7 @@ def separation_analysis(
     contrib = [
         np.stack([modal_contributions(b, sd[k, i, : b.n_floors]) for k in range(n_rec)])
         for i, b in enumerate(blds)
-    ]  # per building: (record, floor, mode)
+    ]
     th = [_time_history(system, gm, opts, pairs) for gm in grounds]
     peak_srss = np.full((n_rec, len(blds), width), np.nan)
     peak_cqc = np.full_like(peak_srss, np.nan)
@@ -338,22 +439,14 @@ def separation_analysis(
         off = int(system.dof_offset[i])
         for k in range(n_rec):
             peak_th[k, i, : b.n_floors] = th[k].peak_displacement[off : off + b.n_floors]
+    return _Peaks(system, {b.name: i for i, b in enumerate(blds)}, modals, width, n_rec, sd,
+                  contrib, th, np.array([t.exact_gap for t in th]), peak_srss, peak_cqc,
+                  peak_th)  # fmt: skip
 
-    def end_values(pair: FacingPair, peaks: np.ndarray, side: str) -> np.ndarray:
-        name, floor = (
-            (pair.left, pair.left_floor) if side == "left" else (pair.right, pair.right_floor)
-        )
-        if name == WALL:
-            return np.zeros(n_rec)
-        if floor == 0:
-            # an isolated building's base slab: its time-history peak is known; fixed-base modal
-            # spectra (and the code rules built on them) say nothing about a sliding slab
-            if peaks is peak_th:
-                dof = int(system.base_dof[index[name]])
-                return np.array([t.peak_displacement[dof] for t in th])
-            return np.full(n_rec, np.nan)
-        return peaks[:, index[name], floor - 1]
 
+def _estimate_names(options: SeparationOptions) -> list[str]:
+    """The estimates computed: always the time-history and spectral ones; the ASCE 7 and EC8 rules
+    when their factors (c_d, q) are given."""
     estimates = [
         "time_history",
         "abs_time_history",
@@ -368,149 +461,127 @@ def separation_analysis(
         estimates += ["asce7_same_property", "asce7_property_line"]
     if options.q is not None:
         estimates += ["ec8_same_property", "ec8_property_line"]
-    q_d = options.q_d if options.q_d is not None else options.q
+    return estimates
 
-    per_pair = np.full((n_rec, n_pair, len(estimates)), np.nan)
-    rho_pair = np.full(n_pair, np.nan)
-    exact = np.array([t.exact_gap for t in th])  # (record, pair)
-    for p, pair in enumerate(pairs):
-        cols: dict[str, np.ndarray] = {"time_history": exact[:, p]}
-        both = pair.left != WALL and pair.right != WALL
-        if both:
-            ia, ib = index[pair.left], index[pair.right]
-            ta, tb = modals[ia].periods[0], modals[ib].periods[0]
-            za, zb = modals[ia].damping_ratios[0], modals[ib].damping_ratios[0]
-            rho_pair[p] = float(cqc_correlation(ta, tb, za, zb))
-        for source, peaks in (("time_history", peak_th), ("spectral", peak_cqc)):
-            ua, ub = end_values(pair, peaks, "left"), end_values(pair, peaks, "right")
-            cols[f"abs_{source}"] = abs_gap(ua, ub)
-            cols[f"srss_{source}"] = srss_gap(ua, ub)
-            cols[f"ddc_{source}"] = (
-                ddc_gap(ua, ub, period_a=ta, period_b=tb, damping_a=za, damping_b=zb)
-                if both
-                else abs_gap(ua, ub)
-            )
-        # u_left - u_right over the modes of both buildings (a wall contributes nothing)
-        terms, periods, damps = [], [], []
-        for name, floor, sign in (
-            (pair.left, pair.left_floor, LEFT_SIGN),
-            (pair.right, pair.right_floor, RIGHT_SIGN),
-        ):
-            if name != WALL:
-                i = index[name]
-                terms.append(sign * contrib[i][:, floor - 1, :])
-                periods.append(modals[i].periods)
-                damps.append(modals[i].damping_ratios)
-        cols["cqc_relative_spectral"] = combine_modes(
-            np.concatenate(terms, axis=1), np.concatenate(periods), np.concatenate(damps), "cqc"
+
+def _pair_estimates(
+    pk: _Peaks, p: int, pair: FacingPair, options: SeparationOptions
+) -> tuple[dict[str, np.ndarray], float]:
+    """Every estimate of the gap a facing pair needs, per record, and the CQC correlation of the two
+    buildings' first modes (NaN against a wall)."""
+    cols: dict[str, np.ndarray] = {"time_history": pk.exact[:, p]}
+    both = pair.left != WALL and pair.right != WALL
+    rho = math.nan
+    ta = tb = za = zb = math.nan
+    if both:
+        ma, mb = pk.modals[pk.index[pair.left]], pk.modals[pk.index[pair.right]]
+        ta, tb = ma.periods[0], mb.periods[0]
+        za, zb = ma.damping_ratios[0], mb.damping_ratios[0]
+        rho = float(cqc_correlation(ta, tb, za, zb))
+    for source, peaks in (("time_history", pk.peak_th), ("spectral", pk.peak_cqc)):
+        ua = pk.at(pair.left, pair.left_floor, peaks)
+        ub = pk.at(pair.right, pair.right_floor, peaks)
+        cols[f"abs_{source}"] = abs_gap(ua, ub)
+        cols[f"srss_{source}"] = srss_gap(ua, ub)
+        cols[f"ddc_{source}"] = (
+            ddc_gap(ua, ub, period_a=ta, period_b=tb, damping_a=za, damping_b=zb)
+            if both
+            else abs_gap(ua, ub)
         )
-        if pair.left_floor == 0 or pair.right_floor == 0:
-            # fixed-base modes do not describe a sliding base slab
-            cols["cqc_relative_spectral"] = np.full(n_rec, np.nan)
-        u_el_a = end_values(pair, peak_cqc, "left")
-        u_el_b = end_values(pair, peak_cqc, "right")
-        if options.c_d is not None:
-            dm_a, dm_b = (
-                asce7_inelastic_displacement(
-                    options.i_e * u / options.r, c_d=options.c_d, i_e=options.i_e
-                )
-                for u in (u_el_a, u_el_b)
+    # u_left - u_right over the modes of both buildings (a wall contributes nothing)
+    terms, periods, damps = [], [], []
+    for name, floor, sign in (
+        (pair.left, pair.left_floor, LEFT_SIGN),
+        (pair.right, pair.right_floor, RIGHT_SIGN),
+    ):
+        if name != WALL:
+            i = pk.index[name]
+            terms.append(sign * pk.contrib[i][:, floor - 1, :])
+            periods.append(pk.modals[i].periods)
+            damps.append(pk.modals[i].damping_ratios)
+    cols["cqc_relative_spectral"] = combine_modes(
+        np.concatenate(terms, axis=1), np.concatenate(periods), np.concatenate(damps), "cqc"
+    )
+    if pair.left_floor == 0 or pair.right_floor == 0:
+        # fixed-base modes do not describe a sliding base slab
+        cols["cqc_relative_spectral"] = np.full(pk.n_rec, np.nan)
+    cols.update(_code_estimates(pk, pair, options))
+    return cols, rho
+
+
+def _code_estimates(
+    pk: _Peaks, pair: FacingPair, options: SeparationOptions
+) -> dict[str, np.ndarray]:
+    """The ASCE 7 and EC8 separation rules on the elastic CQC peaks of the pair's two ends."""
+    cols = {}
+    u_el_a = pk.at(pair.left, pair.left_floor, pk.peak_cqc)
+    u_el_b = pk.at(pair.right, pair.right_floor, pk.peak_cqc)
+    if options.c_d is not None:
+        dm_a, dm_b = (
+            asce7_inelastic_displacement(
+                options.i_e * u / options.r, c_d=options.c_d, i_e=options.i_e
             )
-            cols["asce7_same_property"] = asce7_separation(dm_a, dm_b, same_property=True)
-            cols["asce7_property_line"] = asce7_separation(dm_a, dm_b, same_property=False)
-        if options.q is not None:
-            ds_a, ds_b = (ec8_design_displacement(u / options.q, q_d=q_d) for u in (u_el_a, u_el_b))
-            for key, same in (("ec8_same_property", True), ("ec8_property_line", False)):
-                cols[key] = ec8_separation(
-                    ds_a, ds_b, same_property=same, same_levels=pair.same_level
-                )
-        for e, name in enumerate(estimates):
-            per_pair[:, p, e] = cols[name]
+            for u in (u_el_a, u_el_b)
+        )
+        cols["asce7_same_property"] = asce7_separation(dm_a, dm_b, same_property=True)
+        cols["asce7_property_line"] = asce7_separation(dm_a, dm_b, same_property=False)
+    if options.q is not None:
+        q_d = options.q_d if options.q_d is not None else options.q
+        ds_a, ds_b = (ec8_design_displacement(u / options.q, q_d=q_d) for u in (u_el_a, u_el_b))
+        for key, same in (("ec8_same_property", True), ("ec8_property_line", False)):
+            cols[key] = ec8_separation(ds_a, ds_b, same_property=same, same_levels=pair.same_level)
+    return cols
 
-    interfaces = list(dict.fromkeys(p.interface for p in pairs))
-    members = [np.array([p.interface == f for p in pairs]) for f in interfaces]
-    required = np.stack([per_pair[:, m, :].max(axis=1) for m in members], axis=1)
-    stats = np.stack(
-        [
-            np.median(required, axis=0),
-            np.percentile(required, 84.0, axis=0),
-            required.max(axis=0),
-        ],
-        axis=-1,
-    )  # (interface, estimate, statistic)
 
-    # probability of pounding versus gap, per interface
-    gstar = required[:, :, estimates.index("time_history")]  # (record, interface)
+def _probability(
+    gstar: np.ndarray, options: SeparationOptions
+) -> tuple[np.ndarray, dict[str, tuple]]:
+    """The gap grid and, per interface, the empirical and lognormal probabilities of pounding, the
+    lognormal fit and the gap for the target probability, from the exact gaps (record, interface)."""
     if options.gaps is not None:
         gap_grid = np.asarray(options.gaps, float)
     else:
         top = float(gstar.max()) if gstar.size and gstar.max() > 0 else 0.01
         gap_grid = np.linspace(0.0, 1.5 * top, 121)
-    fits = [fit_lognormal(gstar[:, j]) for j in range(len(interfaces))]
-    prob_emp = np.stack(
-        [empirical_pounding_probability(gap_grid, gstar[:, j]) for j in range(len(interfaces))]
-    )
-    prob_ln = np.stack([lognormal_pounding_probability(gap_grid, f) for f in fits])
-    g_target = np.array([gap_for_probability(options.target_probability, f) for f in fits])
-
-    modes = np.arange(1, width + 1)
-    data = {
-        "natural_period": (("building", "mode"), _pad([m.periods for m in modals], width)),
-        "modal_damping_ratio": (
-            ("building", "mode"),
-            _pad([m.damping_ratios for m in modals], width),
+    n_int = gstar.shape[1]
+    fits = [fit_lognormal(gstar[:, j]) for j in range(n_int)]
+    return gap_grid, {
+        "pounding_probability": (
+            ("interface", "gap"),
+            np.stack([empirical_pounding_probability(gap_grid, gstar[:, j]) for j in range(n_int)]),
         ),
-        "spectral_displacement": (("record", "building", "mode"), sd),
-        "peak_displacement_time_history": (("record", "building", "floor"), peak_th),
-        "peak_displacement_srss": (("record", "building", "floor"), peak_srss),
-        "peak_displacement_cqc": (("record", "building", "floor"), peak_cqc),
-        "exact_gap": (("record", "pair"), exact),
-        "pair_correlation": (("pair",), rho_pair),
-        "required_gap_pair": (("record", "pair", "estimate"), per_pair),
-        "required_gap": (("record", "interface", "estimate"), required),
-        "required_gap_statistic": (("interface", "estimate", "statistic"), stats),
-        "pounding_probability": (("interface", "gap"), prob_emp),
-        "pounding_probability_lognormal": (("interface", "gap"), prob_ln),
+        "pounding_probability_lognormal": (
+            ("interface", "gap"),
+            np.stack([lognormal_pounding_probability(gap_grid, f) for f in fits]),
+        ),
         "lognormal_median": (("interface",), np.array([f.median for f in fits])),
         "lognormal_beta": (("interface",), np.array([f.beta for f in fits])),
         "lognormal_fraction": (("interface",), np.array([f.fraction for f in fits])),
-        "gap_for_target_probability": (("interface",), g_target),
-        "case_gap": (("interface",), _case_gaps(case, interfaces)),
+        "gap_for_target_probability": (
+            ("interface",),
+            np.array([gap_for_probability(options.target_probability, f) for f in fits]),
+        ),
     }
-    coords = {
-        "record": _unique_names(grounds),
-        **_pair_coords(pairs),
-        "interface": interfaces,
-        "estimate": estimates,
-        "estimate_label": ("estimate", [ESTIMATES[e][0] for e in estimates]),
-        "estimate_basis": ("estimate", [ESTIMATES[e][1] for e in estimates]),
-        "statistic": list(STATISTICS),
-        "gap": gap_grid,
-        "building": [b.name for b in blds],
-        "floor": modes,
-        "mode": modes,
+
+
+def _separation_attrs(case: Case, options: SeparationOptions, pk: _Peaks) -> dict[str, Any]:
+    """Provenance and parameters of a separation Dataset."""
+    return {
+        "title": case.title,
+        "pounding_kind": "separation",
+        "pounding_version": __version__,
+        "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "Conventions": "CF-1.8",
+        "sign_convention": (
+            "displacements relative to ground, positive to the right; "
+            "penetration = u_left - u_right - gap"
+        ),
+        "spectrum": options.spectrum,
+        "spectrum_description": options.spectrum_description(),
+        "method": pk.th[0].method,
+        "dt": float(pk.th[0].dt),
+        "duration": float(pk.th[0].duration),
+        "target_probability": options.target_probability,
+        "n_records": pk.n_rec,
+        **{f"option_{k}": v for k, v in options.to_attrs().items()},
     }
-    ds = xr.Dataset(data, coords=coords)
-    _apply_attrs(ds)
-    ds.attrs.update(
-        {
-            "title": case.title,
-            "pounding_kind": "separation",
-            "pounding_version": __version__,
-            "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-            "Conventions": "CF-1.8",
-            "sign_convention": (
-                "displacements relative to ground, positive to the right; "
-                "penetration = u_left - u_right - gap"
-            ),
-            "spectrum": options.spectrum,
-            "spectrum_description": options.spectrum_description(),
-            "method": th[0].method,
-            "dt": float(th[0].dt),
-            "duration": float(th[0].duration),
-            "target_probability": options.target_probability,
-            "n_records": n_rec,
-            **{f"option_{k}": v for k, v in options.to_attrs().items()},
-        }
-    )
-    return ds
