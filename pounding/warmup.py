@@ -15,14 +15,14 @@ import time
 from pathlib import Path
 
 #: Wall time [s] of a cold compilation on the reference machine (2-core AMD EPYC, numba 0.68;
-#: benchmarks/startup.py), quoted in the notice.
-COMPILE_SECONDS = 30
+#: benchmarks/startup.py: 67-79 s CPU on 2026-11-26), quoted in the notice.
+COMPILE_SECONDS = 70
 
 
 def _dispatcher():
     from pounding.integrators import _kernels as kn
 
-    return kn.newmark_run
+    return kn._integrate  # the compiled loop (newmark_run is the Python function that calls it)
 
 
 def cache_dir() -> Path | None:
@@ -36,7 +36,7 @@ def cache_dir() -> Path | None:
 def is_warm() -> bool:
     """True when numba's cache holds the integrator kernel compiled from the current sources.
 
-    Reads the cache index of ``newmark_run`` (numba's own staleness test: the source file's stamp);
+    Reads the cache index of the compiled loop (numba's own staleness test: the source file's stamp);
     a run then loads the compiled kernels in well under a second. Also True when there is nothing to
     compile (``NUMBA_DISABLE_JIT=1``), or when numba's cache internals cannot be read (no notice
     rather than a wrong one)."""

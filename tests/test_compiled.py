@@ -22,7 +22,7 @@ from pounding.case import load_case
 from pounding.results import save
 from pounding.simulate import simulate
 from pounding.integrators import _kernels
-assert not hasattr(_kernels.newmark_run, "py_func"), "numba is still compiling"
+assert not hasattr(_kernels._integrate, "py_func"), "numba is still compiling"
 save(simulate(load_case(sys.argv[1]), duration=2.0), sys.argv[2])
 """
 

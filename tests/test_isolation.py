@@ -650,7 +650,7 @@ from pounding.simulate import simulate
 from pounding.structure import IsolationBase, ShearBuilding
 from pounding.system import Contact, assemble
 if sys.argv[2] == "plain":
-    assert not hasattr(_kernels.newmark_run, "py_func"), "numba is still compiling"
+    assert not hasattr(_kernels._integrate, "py_func"), "numba is still compiling"
 a = ShearBuilding.uniform("A", 2, period=0.4, mass=3e5, base=IsolationBase(
     mass=4e5, friction="coulomb", mu_s=0.12, mu_d=0.1))
 b = ShearBuilding.uniform("B", 2, period=0.5, mass=3e5, base=IsolationBase(

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding._numba import jit, jit_inline, jit_internal, jit_setup  # noqa: F401  (re-exported: the kernels' decorators)
+from pounding._numba import jit, jit_inline, jit_internal, jit_kernel  # noqa: F401  (re-exported: the kernels' decorators)
 
 # The kernels' parts, by concern; names re-exported here for the integrators and the tests.
 from pounding.integrators._coefficients import Coef, newmark_coefficients  # noqa: F401
@@ -100,10 +100,11 @@ from pounding.integrators._steps import (  # noqa: F401
 from pounding.system import FRICTION_COULOMB
 
 
-@jit_setup
+@jit
 def _prepare(sy, sch, gaps, fr, el, h):
-    """The model (band forms, M ι, M⁻¹), the factors of the base step and of the contact step (a copy
-    until a contact needs another step), the trial arrays and the scratch space."""
+    """The model (band forms, M ι, M's factors), the factors of the base step and of the contact step
+    (a copy until a contact needs another step), the trial arrays, the scratch space and the loop
+    state."""
     n = sy.M.shape[0]
     n_el = gaps.gap.size
     n_x = sy.x_dof.shape[0]
@@ -142,7 +143,10 @@ def _prepare(sy, sch, gaps, fr, el, h):
               np.zeros(n_el, dtype=np.bool_), np.zeros(n_el, dtype=np.bool_),
               np.zeros((n, 2 * bw + 1)), np.zeros((n, bw + 1)), np.zeros(n), np.zeros(n),
               np.zeros(n_x, dtype=np.bool_))  # fmt: skip
-    return md, fac_h, fac_c, tr, wk
+    ls = LoopState(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(N_CT), np.zeros(N_EN),
+                   np.zeros(n), np.zeros(n), np.zeros(n_el, dtype=np.bool_),
+                   np.zeros(n_el, dtype=np.bool_))  # fmt: skip
+    return md, fac_h, fac_c, tr, wk, ls
 
 
 @jit_inline
@@ -453,7 +457,6 @@ def _adapt(onset, hs, gaps, tr, ctl, opts):
     ctl[CT_HSEP] = h_sep
 
 
-@jit
 def newmark_run(sy, sch, gaps, fr, el, opts, n_steps, out_every, out):
     """Integrate from rest over n_steps base steps of opts.h; outputs every out_every steps (row 0 =
     t 0) into ``out``. Returns the final time reached; ``out.counters[CNT_STATUS]`` tells success or
@@ -463,15 +466,11 @@ def newmark_run(sy, sch, gaps, fr, el, opts, n_steps, out_every, out):
     friction, a step is the precomputed linear map (no Newton). A step in which a gap closes is
     shortened to end at the closure; one in which a Coulomb slab turns back or breaks away, to end
     there. With ``opts.adaptive``, steps inside a contact are t_c(v0)/steps_per_contact; otherwise
-    every step is h. The arrays are allocated here; the loop (:func:`_integrate`) allocates none.
+    every step is h. The arrays are allocated by :func:`_prepare`; the loop (:func:`_integrate`)
+    allocates none. A Python function joins the two compiled ones: compiled, it would link and
+    optimise the whole core once more (12 s of a cold compilation).
     """
-    h = opts.h
-    md, fac_h, fac_c, tr, wk = _prepare(sy, sch, gaps, fr, el, h)
-    n = md.M.shape[0]
-    n_el = gaps.gap.size
-    ls = LoopState(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(N_CT), np.zeros(N_EN),
-                   np.zeros(n), np.zeros(n), np.zeros(n_el, dtype=np.bool_),
-                   np.zeros(n_el, dtype=np.bool_))  # fmt: skip
+    md, fac_h, fac_c, tr, wk, ls = _prepare(sy, sch, gaps, fr, el, opts.h)
     return _integrate(md, sch, gaps, fr, el, opts, (fac_h, fac_c), tr, wk, ls, n_steps, out_every,
                       out)  # fmt: skip
 
@@ -510,7 +509,7 @@ def _algorithmic(sch):
     return sch.alpha != 0.0 or sch.gamma != 0.5 or sch.beta != 0.25
 
 
-@jit_internal
+@jit_kernel
 def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every, out):
     """The time loop: per base step, substeps chosen, taken, their events located, accounted for
     and accepted until the base step's end; output at every out_every-th base step."""

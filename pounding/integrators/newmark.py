@@ -206,12 +206,14 @@ def _remedies(max_iter: int, max_halvings: int, locate_onset: bool, adaptive: bo
 
 
 def _f64(x: np.ndarray) -> np.ndarray:
-    """C-contiguous float64: one compiled specialisation of the kernels serves every run."""
-    return np.ascontiguousarray(x, dtype=np.float64)
+    """C-contiguous, writable float64: one compiled specialisation of the kernels serves every run
+    (a read-only array is another numba type, and inside a group it would recompile every kernel
+    that takes the group)."""
+    return np.require(x, np.float64, ["C", "W"])
 
 
 def _i64(x: np.ndarray) -> np.ndarray:
-    return np.ascontiguousarray(x, dtype=np.int64)
+    return np.require(x, np.int64, ["C", "W"])
 
 
 @dataclass(frozen=True)
@@ -295,8 +297,8 @@ def integrate_newmark(
                        families.dof))  # fmt: skip
     x_sign = np.vstack((el.el_sign, np.column_stack((np.ones(n_fr), np.zeros(n_fr))),
                         families.sign))  # fmt: skip
-    sy = kn.System(system.mass, system.damping, system.stiffness, system.influence,
-                   system.below, _f64(ground.acceleration), float(ground.dt), _i64(x_dof),
+    sy = kn.System(_f64(system.mass), _f64(system.damping), _f64(system.stiffness),
+                   _f64(system.influence), _i64(system.below), _f64(ground.acceleration), float(ground.dt), _i64(x_dof),
                    _f64(x_sign))  # fmt: skip
     opts = kn.Options(float(tol), int(max_iter), int(max_halvings), bool(locate_onset),
                       penetration_tolerance(system, ground, tol), float(floor), bool(adaptive),
