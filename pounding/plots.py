@@ -484,7 +484,12 @@ def energy(ds: xr.Dataset) -> Figure:
     fig, axes = _figure(3.4)
     ax = axes[0, 0]
     e = ds["energy"]
-    terms = [str(t) for t in e["term"].values if str(t) != "input"]
+    # terms that stay zero (no friction, no links, average acceleration) would only crowd the legend
+    terms = [
+        str(t)
+        for t in e["term"].values
+        if str(t) != "input" and bool(np.any(e.sel(term=t).values != 0.0))
+    ]
     parts = np.stack([e.sel(term=t).values for t in terms])
     ax.stackplot(ds["time"].values, np.clip(parts, 0.0, None) / 1e3, labels=terms, alpha=0.8)
     ax.plot(ds["time"], e.sel(term="input") / 1e3, color="k", lw=1.2, label="input")
