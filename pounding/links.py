@@ -60,9 +60,9 @@ V_LIN = 1e-3
 
 def kelvin_link_kernel(d, dd, h, s0, s1, p):
     """Spring k and dashpot c in parallel: F = k δ + c δ̇."""
-    s1[0] = p[0] * d + p[1] * dd
-    s1[1] = d
-    return s1[0], p[0], p[1]
+    s1[LS_F] = p[0] * d + p[1] * dd
+    s1[LS_D] = d
+    return s1[LS_F], p[0], p[1]
 
 
 def viscous_link_kernel(d, dd, h, s0, s1, p):
@@ -77,8 +77,8 @@ def viscous_link_kernel(d, dd, h, s0, s1, p):
     else:
         f = math.copysign(c * v**alpha, dd)
         cd = alpha * c * v ** (alpha - 1.0)
-    s1[0] = f
-    s1[1] = d
+    s1[LS_F] = f
+    s1[LS_D] = d
     return f, 0.0, cd
 
 
@@ -87,9 +87,9 @@ def maxwell_link_kernel(d, dd, h, s0, s1, p):
     k, c = p[0], p[1]
     decay = math.exp(-h * k / c)
     kd = c / h * (1.0 - decay)
-    f = s0[0] * decay + kd * (d - s0[1])
-    s1[0] = f
-    s1[1] = d
+    f = s0[LS_F] * decay + kd * (d - s0[LS_D])
+    s1[LS_F] = f
+    s1[LS_D] = d
     return f, kd, 0.0
 
 

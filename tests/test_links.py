@@ -258,3 +258,21 @@ def test_a_system_without_links_has_no_link_axis():
     ds = simulate(system, sine_pulse(amplitude=2.0, period=0.6, duration=1.0, dt=0.01), dt=0.002)
     assert "link" not in ds.dims and "link_force" not in ds
     assert float(abs(ds["energy"].sel(term=["link_dissipated", "link_stored"])).max()) == 0.0
+
+
+@pytest.mark.parametrize("law", list(LINK_LAWS.values()), ids=lambda law: law.name)
+def test_compiled_link_dispatch_calls_the_registered_kernel(law):
+    # the compiled dispatch switches on literal ids: tie each id to the registry's kernel and stored
+    from pounding.integrators._dispatch import element_eval, element_stored
+    from pounding.links import FAMILY_LINK, N_LINK_STATE
+
+    p = np.array([3.0e7, 0.6, 1e-3]) if law.name == "viscous" else np.array([3.0e7, 6.0e5, 0.0])
+    for d, dd in [(2e-3, 0.3), (-1e-3, -2e-4)]:
+        s0 = np.array([1.5e4, 1e-3])
+        s_c, s_p = np.zeros(N_LINK_STATE), np.zeros(N_LINK_STATE)
+        got = element_eval(FAMILY_LINK, law.kernel_id, d, dd, 0.004, s0, s_c, p)
+        want = law.kernel(d, dd, 0.004, s0, s_p, p)
+        np.testing.assert_allclose(got, want, rtol=1e-14)
+        np.testing.assert_allclose(s_c, s_p, rtol=1e-14)
+        stored = element_stored(FAMILY_LINK, law.kernel_id, d, got[0], s_c, p)
+        assert stored == pytest.approx(law.stored(d, got[0], s_c, p), rel=1e-14)
