@@ -32,6 +32,7 @@ COMPILED_SOURCES = (
     "integrators/_steps.py",
     "integrators/_ledger.py",
     "links.py",
+    "stories.py",
     "integrators/ivp.py",
     "integrators/sdof.py",
     "contact/laws.py",

@@ -19,6 +19,7 @@ import numpy as np
 
 from pounding.ground_motion import GroundMotion
 from pounding.integrators.base import ENERGY_TERMS, RawResult
+from pounding.stories import park_ang
 from pounding.structure import reference_floors
 from pounding.system import PoundingSystem
 
@@ -126,6 +127,31 @@ ATTRS: dict[str, dict[str, str]] = {
     "link_left_floor": {"long_name": "floor of the left building the link joins"},
     "link_right_floor": {"long_name": "floor of the right building the link joins"},
     "link_type": {"long_name": "coupling link law"},
+    "residual_drift": {"units": "m", "long_name": "inter-story drift at the end of the analysis"},
+    "residual_drift_ratio": {
+        "units": "1",
+        "long_name": "inter-story drift ratio at the end of the analysis",
+    },
+    "story_model": {"long_name": "story model (elastic or hysteretic)"},
+    "story_spring_force": {
+        "units": "N",
+        "long_name": "story spring (restoring) force, without damping",
+    },
+    "peak_story_spring_force": {
+        "units": "N",
+        "long_name": "peak absolute story spring (restoring) force",
+    },
+    "yield_force": {"units": "N", "long_name": "story yield force F_y"},
+    "yield_drift": {"units": "m", "long_name": "story yield drift F_y/k"},
+    "story_ductility": {"units": "1", "long_name": "story ductility: peak drift / yield drift"},
+    "hysteretic_energy": {
+        "units": "J",
+        "long_name": "story hysteretic energy: work of the spring less its recoverable F²/(2k)",
+    },
+    "park_ang_damage": {
+        "units": "1",
+        "long_name": "Park-Ang damage index δ_m/δ_u + β E_h/(F_y δ_u)",
+    },
     "peak_base_displacement": {
         "units": "m",
         "long_name": "peak absolute base slab (bearing) displacement",
@@ -335,7 +361,11 @@ def result_variables(
     for i, s in enumerate(shapes):
         mode_shape[i, : s.shape[0], : s.shape[1]] = s
     group = [system.contacts[g] for g in el.group]
-    d: dict[str, tuple] = {**_isolation_variables(system, raw), **_link_variables(system, raw)}
+    d: dict[str, tuple] = {
+        **_isolation_variables(system, raw),
+        **_link_variables(system, raw),
+        **_story_variables(system, raw, drift, per_building(raw.peak_drift)),
+    }
     d.update(
         {
             "displacement": (("time", "building", "floor"), u),
@@ -345,6 +375,8 @@ def result_variables(
             "drift_ratio": (("time", "building", "story"), drift / heights),
             "story_shear": (("time", "building", "story"), shear),
             "base_shear": (("time", "building"), shear[:, :, 0]),
+            "residual_drift": (("building", "story"), drift[-1]),
+            "residual_drift_ratio": (("building", "story"), drift[-1] / heights),
             "penetration": (("time", "contact"), raw.penetration.reshape(nt, n_el)),
             "contact_force": (("time", "contact"), raw.contact_force.reshape(nt, n_el)),
             "ground_acceleration": (("time",), raw.ground_acceleration),
@@ -537,17 +569,21 @@ def with_floor_spectra(result: ResultVariables, floors: Any) -> ResultVariables:
 def _floor_shears(system: PoundingSystem, raw: RawResult, slices: list[slice]) -> np.ndarray:
     """Story shear [N] under every floor dof (time × dof): V_i = Σ_{j ≥ i} (K u + C v)_j over the
     building's floors, taken from their equilibrium, −Σ_{j ≥ i} (m_j ü_j^abs + Σ_c s_cj f_c), so the
-    damping (whatever its form) and the contact forces on the floors above are in it. For a shear
-    building Σ_{j ≥ i} (K u)_j = k_i (u_i − u_{i−1}): the spring part is k_i times the drift."""
+    damping (whatever its form) and the contact and link forces on the floors above are in it. For
+    an elastic shear building Σ_{j ≥ i} (K u)_j = k_i (u_i − u_{i−1}): the spring part is k_i
+    times the drift (``story_spring_force`` for a yielding story)."""
     m = np.diag(system.mass)
     floor_force = m * (raw.acceleration + raw.ground_acceleration[:, None] * system.influence)
     el = system.elements
     nt = raw.time.size
-    f = raw.contact_force.reshape(nt, len(el))
-    for side in range(2):
-        dof = el.el_dof[:, side]
-        hit = dof >= 0
-        np.add.at(floor_force.T, dof[hit], (el.el_sign[hit, side] * f[:, hit]).T)
+    rows = [(el.el_dof, el.el_sign, raw.contact_force.reshape(nt, len(el)))]
+    if len(system.links) and raw.link_force is not None:
+        rows.append((system.links.dof, system.links.sign, raw.link_force))
+    for dofs, signs, f in rows:
+        for side in range(2):
+            dof = dofs[:, side]
+            hit = dof >= 0
+            np.add.at(floor_force.T, dof[hit], (signs[hit, side] * f[:, hit]).T)
     shear = np.zeros_like(floor_force)
     for s in slices:
         # floors of a building are consecutive dofs, lowest first: sum from the roof down
@@ -592,6 +628,47 @@ def _isolation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tu
         np.array([b.base.radius if b.base and b.base.radius else nan for b in bl], dtype=float),
     )
     out["base_normal_force"] = (("building",), np.array([b.weight if b.base else nan for b in bl]))
+    return out
+
+
+def _story_variables(
+    system: PoundingSystem, raw: RawResult, drift: np.ndarray, peak_drift: np.ndarray
+) -> dict[str, tuple]:
+    """Story spring forces, ductility, hysteretic energy and damage, only for a system with a
+    yielding story (the elastic stories of its buildings read k δ, their ductility NaN)."""
+    st = system.stories
+    if not len(st) or raw.story_force is None:
+        return {}
+    nb, width = drift.shape[1:]
+    k = _padded([b.stiffnesses for b in system.buildings], width)
+    spring = drift * k
+    peak_spring = peak_drift * k
+    fy, e_h, ultimate, beta = (np.full((nb, width), np.nan) for _ in range(4))
+    model = np.full((nb, width), "", dtype=object)
+    for i, b in enumerate(system.buildings):
+        model[i, : b.n_floors] = b.stories.model
+    b_i, s_i = st.building, st.story - 1
+    spring[:, b_i, s_i] = raw.story_force
+    peak_spring[b_i, s_i] = raw.peak_story_force
+    fy[b_i, s_i] = st.params[:, 1]
+    e_h[b_i, s_i] = raw.story_hysteretic
+    ultimate[b_i, s_i] = st.ultimate
+    beta[b_i, s_i] = st.park_ang_beta
+    yield_drift = fy / k
+    out = {
+        "story_model": (("building", "story"), model.astype(str)),
+        "story_spring_force": (("time", "building", "story"), spring),
+        "peak_story_spring_force": (("building", "story"), peak_spring),
+        "yield_force": (("building", "story"), fy),
+        "yield_drift": (("building", "story"), yield_drift),
+        "story_ductility": (("building", "story"), peak_drift / yield_drift),
+        "hysteretic_energy": (("building", "story"), e_h),
+    }
+    if np.isfinite(ultimate).any():
+        out["park_ang_damage"] = (
+            ("building", "story"),
+            park_ang(peak_drift, ultimate, e_h, fy, beta),
+        )
     return out
 
 

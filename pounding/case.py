@@ -18,6 +18,7 @@ from pounding.contact.calibrate import CALIBRATIONS
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import ANALYTIC_MOTIONS, GroundMotion, analytic
 from pounding.simulate import ANALYSIS_KEYS, OUTPUT_KEYS, AnalysisOptions
+from pounding.stories import STORY_MODELS, Stories
 from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
 from pounding.system import Contact, Link, PoundingSystem, assemble
 from pounding.units import acceleration_factor
@@ -87,6 +88,12 @@ _BUILDING_KEYS = (
     ),
     Key(
         "base", "any", "a table: isolation: { type, mass, friction, ... } (README, base isolation)"
+    ),
+    Key(
+        "stories",
+        "any",
+        "a table: story model { model, yield_drift or yield_force, hardening, ... } "
+        "(README, yielding stories)",
     ),
 )
 _DAMPING_KEYS = (
@@ -297,10 +304,30 @@ def _base(spec: Any, where: str) -> IsolationBase | None:
         raise CaseError(f"{where}.base: {message}") from None
 
 
+def _stories(spec: Any, where: str) -> Stories:
+    """The ``stories = { model = "bilinear", yield_drift = 0.005, hardening = 0.03 }`` table."""
+    if spec is None:
+        return Stories()
+    if not isinstance(spec, Mapping):
+        raise CaseError(
+            f'{where}.stories must be a table, e.g. {{ model = "bilinear", yield_drift = 0.005, '
+            "hardening = 0.03 }"
+        )
+    table = dict(spec)
+    model = table.pop("model", None)
+    if model is None:
+        raise CaseError(f"{where}.stories.model is required; allowed: {', '.join(STORY_MODELS)}")
+    try:
+        return Stories(str(model), table)
+    except PoundingInputError as exc:
+        raise CaseError(f"{where}.{exc}") from None
+
+
 def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
     spec = _checked(spec, _BUILDING_KEYS, where)
     damping = _damping(spec.get("damping"), where)
     base = _base(spec.get("base"), where)
+    stories = _stories(spec.get("stories"), where)
     uniform = [k for k in ("n_floors", "period", "mass") if k in spec]
     if uniform:
         missing = [k for k in ("n_floors", "period", "mass") if k not in spec]
@@ -317,6 +344,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
             height=spec.get("height", 3.0),
             damping=damping,
             base=base,
+            stories=stories,
         )
     for key in ("masses", "stiffnesses"):
         if key not in spec:
@@ -334,6 +362,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
         heights=spec.get("heights"),
         damping=damping,
         base=base,
+        stories=stories,
     )
 
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from pounding import friction as _friction
 from pounding.errors import PoundingInputError
+from pounding.stories import Stories
 from pounding.units import G
 
 DEFAULT_STORY_HEIGHT = 3.0
@@ -368,6 +369,7 @@ class ShearBuilding:
     heights: np.ndarray | None = None
     damping: Damping = RayleighDamping()
     base: IsolationBase | None = None
+    stories: Stories = Stories()
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
@@ -401,6 +403,22 @@ class ShearBuilding:
             raise PoundingInputError(
                 f"{where}: base = {self.base!r}; allowed: an IsolationBase or None"
             )
+        if self.stories is None:
+            object.__setattr__(self, "stories", Stories())
+        if not isinstance(self.stories, Stories):
+            raise PoundingInputError(
+                f"{where}: stories = {self.stories!r}; allowed: a pounding.Stories"
+            )
+        if self.stories.yielding:  # per-story parameters checked now, before any analysis
+            self.story_parameters()
+            self.stories.ultimate_drift(n, where)
+            _ = self.stories.park_ang_beta
+
+    def story_parameters(self) -> np.ndarray:
+        """Rows (k, F_y, model parameters) of the story elements of a yielding model (n × p)."""
+        return self.stories.element_parameters(
+            self.stiffnesses, self.heights, f"building {self.name!r}"
+        )
 
     def _positive_array(self, field: str, values: object) -> np.ndarray:
         where = f"building {self.name!r}"
@@ -545,6 +563,7 @@ class ShearBuilding:
         height: float = DEFAULT_STORY_HEIGHT,
         damping: Damping = RayleighDamping(),  # noqa: B008 (frozen, immutable default)
         base: IsolationBase | None = None,
+        stories: Stories | None = None,
     ) -> ShearBuilding:
         """A building with equal floor masses and equal story stiffnesses.
 
@@ -571,6 +590,8 @@ class ShearBuilding:
             Damping model.
         base : IsolationBase, optional
             Base slab on isolation bearings (the period is the fixed-base one).
+        stories : Stories, optional
+            Story model (default elastic).
         """
         where = f"building {name!r}"
         if isinstance(n_floors, bool) or not isinstance(n_floors, int | np.integer) or n_floors < 1:
@@ -585,7 +606,10 @@ class ShearBuilding:
         s = math.sin(math.pi / (2.0 * (2 * n_floors + 1)))
         k = mass * (omega1 / (2.0 * s)) ** 2
         n = int(n_floors)
-        return cls(name, np.full(n, mass), np.full(n, k), np.full(n, height), damping, base)
+        return cls(
+            name, np.full(n, mass), np.full(n, k), np.full(n, height), damping, base,
+            stories or Stories(),
+        )  # fmt: skip
 
 
 def reference_floors(shapes: np.ndarray) -> np.ndarray:

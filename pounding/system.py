@@ -45,6 +45,7 @@ from pounding.contact.laws import N_KERNEL_PARAMS, ContactLaw, get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.friction import BOUC_WEN_PARAMETERS, FRICTION_LAWS
 from pounding.links import LINK_LAWS, N_LINK_PARAMS
+from pounding.stories import N_STORY_PARAMS, STORY_MODELS
 from pounding.structure import ShearBuilding
 
 #: Sign of the left point's displacement in δ.
@@ -278,6 +279,38 @@ class LinkElements:
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
+class StoryElements:
+    """Yielding stories (:mod:`pounding.stories`) in the arrays the integrators use, one row per
+    story of every building with a hysteretic model (S in all).
+
+    ``dof`` = (floor, the dof below: floor, base slab or −1 for the ground), ``sign`` (+1, −1; 0
+    for the ground) so that δ = u_floor − u_below is the drift; ``law_id`` story-model kernel ids;
+    ``params`` (S × :data:`pounding.stories.N_STORY_PARAMS`: k, F_y, model parameters). Labels:
+    ``building`` index, ``story`` number (1 = lowest), ``model`` registry names; ``ultimate`` the
+    drift capacity δ_u [m] (NaN when not given) and ``park_ang_beta`` per row.
+    """
+
+    dof: np.ndarray
+    sign: np.ndarray
+    law_id: np.ndarray
+    params: np.ndarray
+    building: np.ndarray
+    story: np.ndarray
+    model: tuple[str, ...] = ()
+    ultimate: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+    park_ang_beta: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0))
+
+    def __len__(self) -> int:
+        return int(self.law_id.size)
+
+    @classmethod
+    def empty(cls) -> StoryElements:
+        z = np.zeros(0, np.int64)
+        return cls(np.zeros((0, 2), np.int64), np.zeros((0, 2)), z, np.zeros((0, N_STORY_PARAMS)),
+                   z.copy(), z.copy())  # fmt: skip
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
 class PoundingSystem:
     """Buildings in a row (left to right) with gap elements; the assembled linear matrices.
 
@@ -298,6 +331,7 @@ class PoundingSystem:
     friction: FrictionElements
     links: LinkElements = dataclasses.field(default_factory=LinkElements.empty)
     link_specs: tuple[Link, ...] = ()
+    stories: StoryElements = dataclasses.field(default_factory=StoryElements.empty)
 
     @property
     def n_dof(self) -> int:
@@ -574,6 +608,48 @@ def assemble(
         friction=_friction_elements(buildings, base_dof),
         links=_link_elements(links, buildings, index, offsets),
         link_specs=tuple(links),
+        stories=_story_elements(buildings, offsets, below),
+    )
+
+
+def _story_elements(
+    buildings: tuple[ShearBuilding, ...], offsets: np.ndarray, below: np.ndarray
+) -> StoryElements:
+    """One row per story of every building with a yielding story model."""
+    parts = []
+    for i, (b, o) in enumerate(zip(buildings, offsets, strict=True)):
+        if not b.stories.yielding:
+            continue
+        n = b.n_floors
+        floor = o + np.arange(n)
+        under = below[floor]
+        ultimate = b.stories.ultimate_drift(n, f"building {b.name!r}")
+        parts.append(
+            (
+                np.column_stack((floor, under)),
+                np.column_stack((np.ones(n), np.where(under >= 0, -1.0, 0.0))),
+                np.full(n, STORY_MODELS[b.stories.model].kernel_id),
+                b.story_parameters(),
+                np.full(n, i),
+                np.arange(1, n + 1),
+                (b.stories.model,) * n,
+                np.full(n, np.nan) if ultimate is None else ultimate * b.heights,
+                np.full(n, b.stories.park_ang_beta),
+            )
+        )
+    if not parts:
+        return StoryElements.empty()
+    cols = list(zip(*parts, strict=True))
+    return StoryElements(
+        dof=np.concatenate(cols[0]).astype(np.int64),
+        sign=np.concatenate(cols[1]),
+        law_id=np.concatenate(cols[2]).astype(np.int64),
+        params=np.concatenate(cols[3]),
+        building=np.concatenate(cols[4]).astype(np.int64),
+        story=np.concatenate(cols[5]).astype(np.int64),
+        model=sum(cols[6], ()),
+        ultimate=np.concatenate(cols[7]),
+        park_ang_beta=np.concatenate(cols[8]),
     )
 
 

@@ -73,6 +73,7 @@ def test_schema_has_the_issue_names_and_dims(pair):
         "algorithmic",
         "link_dissipated",
         "link_stored",
+        "hysteretic",
     ]
     assert "energy_balance_error" in pair.attrs
 

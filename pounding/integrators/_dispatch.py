@@ -136,6 +136,7 @@ def bouc_wen_slide(z0, du, bw):
 # Element families beyond gaps and friction: compiled from their single definitions
 # --------------------------------------------------------------------------------------------------
 from pounding import links as _links  # noqa: E402
+from pounding import stories as _stories  # noqa: E402
 
 _kelvin_link = jit(_links.kelvin_link_kernel)
 _viscous_link = jit(_links.viscous_link_kernel)
@@ -143,14 +144,20 @@ _maxwell_link = jit(_links.maxwell_link_kernel)
 _kelvin_link_stored = jit(_links.kelvin_link_stored)
 _viscous_link_stored = jit(_links.viscous_link_stored)
 _maxwell_link_stored = jit(_links.maxwell_link_stored)
+_bilinear_story = jit(_stories.bilinear_story_kernel)
+_story_stored = jit(_stories.story_stored)
+
+FAMILY_LINK = _links.FAMILY_LINK
+FAMILY_STORY = _stories.FAMILY_STORY
 
 
 @jit_inline
 def element_eval(kind, law, d, dd, h, s0, s1, p):
-    """Force and tangents (F, ∂F/∂δ, ∂F/∂δ̇) of an element of family ``kind`` with law id ``law``
-    at the end of a step of length h; writes its trial state s1 from the committed s0. The links
-    (pounding.links.FAMILY_LINK) are the one family so far: ``kind`` selects among families once a
-    second one exists."""
+    """Force and tangents (F, ∂F/∂δ, ∂F/∂δ̇) of an element of family ``kind`` (links, stories)
+    with law id ``law`` at the end of a step of length h; writes its trial state s1 from the
+    committed s0."""
+    if kind == FAMILY_STORY:
+        return _bilinear_story(d, dd, h, s0, s1, p)
     if law == 0:
         return _kelvin_link(d, dd, h, s0, s1, p)
     if law == 1:
@@ -160,7 +167,9 @@ def element_eval(kind, law, d, dd, h, s0, s1, p):
 
 @jit
 def element_stored(kind, law, d, f, s, p):
-    """Recoverable energy [J] of an element at (δ, F, state)."""
+    """Recoverable energy [J] of an element at (δ, F, state), beyond what the assembled K holds."""
+    if kind == FAMILY_STORY:
+        return _story_stored(d, f, s, p)
     if law == 0:
         return _kelvin_link_stored(d, f, s, p)
     if law == 1:

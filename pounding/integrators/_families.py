@@ -216,10 +216,12 @@ def commit_elements(el):
 
 
 @jit_internal
-def elements_stored(el):
-    """Recoverable energy [J] held by the family elements at their committed state."""
+def elements_stored(el, kind):
+    """Recoverable energy [J] held by the elements of family ``kind`` at their committed state."""
     total = 0.0
     for e in range(el.kind.size):
+        if el.kind[e] != kind:
+            continue
         total += element_stored(
             el.kind[e], el.law[e], el.d0[e], el.f0[e], el.state[e], el.params[e]
         )

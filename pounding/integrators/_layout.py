@@ -49,9 +49,10 @@ FRICTION_SPEED_TOL = 1e-9
 CT_T, CT_SCALE, CT_HALVINGS, CT_GRADE, CT_HCONTACT, CT_HSEP, CT_GSTART = range(7)
 N_CT = 7
 #: Columns of the running energy sums [J]: input, damping, contact work, friction work, algorithmic,
-#: element-family work.
+#: then the work of each element family (EN_ELEMENTS + its kind: links, stories).
 EN_INPUT, EN_DAMP, EN_CONTACT, EN_FRICTION, EN_ALG, EN_ELEMENTS = range(6)
-N_EN = 6
+N_FAMILIES = 2
+N_EN = EN_ELEMENTS + N_FAMILIES
 
 #: Newmark/HHT coefficients of one scheme (γ, β, α).
 Scheme = namedtuple("Scheme", "gamma beta alpha")

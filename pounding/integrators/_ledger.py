@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding._numba import jit_inline, jit_internal, jit_kernel
-from pounding.integrators._dispatch import contact_stored_energy
+from pounding.integrators._dispatch import FAMILY_LINK, FAMILY_STORY, contact_stored_energy
 from pounding.integrators._events import ground_at, hermite_root
 from pounding.integrators._families import commit_elements, elements_stored
 from pounding.integrators._layout import (
@@ -100,7 +100,7 @@ def account_energy(md, hs, g0, g1, x0, tr, gaps, fr, el, en, wk):
         b = fr.dof[k]
         en[EN_FRICTION] += 0.5 * (fr.state[k, FS_F0] + fr.state[k, FS_F1]) * (tr.u1[b] - u[b])
     for e in range(el.kind.size):
-        en[EN_ELEMENTS] += 0.5 * (el.f0[e] + el.f1[e]) * (el.d1[e] - el.d0[e])
+        en[EN_ELEMENTS + el.kind[e]] += 0.5 * (el.f0[e] + el.f1[e]) * (el.d1[e] - el.d0[e])
 
 
 @jit_internal
@@ -243,8 +243,9 @@ def accept(g1, md, x0, tr, gaps, fr, el, out):
         fr.state[k, FS_F0] = fr.state[k, FS_F1]
         fr.state[k, FS_Z0] = fr.state[k, FS_Z1]
     for j in range(el.kind.size):
-        if abs(el.f1[j]) > out.peak_lf[j]:
-            out.peak_lf[j] = abs(el.f1[j])
+        # column 0 of a family's state is the force it reports (a story: its spring force)
+        if abs(el.trial[j, 0]) > out.peak_lf[j]:
+            out.peak_lf[j] = abs(el.trial[j, 0])
     commit_elements(el)
 
 
@@ -269,16 +270,19 @@ def store(row, t, md, x0, gaps, fr, el, en, out):
         out.ff[row, k] = fr.state[k, FS_F0]
         out.st[row, k] = fr.state[k, FS_STUCK]
     for j in range(el.kind.size):
-        out.lf[row, j] = el.f0[j]
+        out.lf[row, j] = el.state[j, 0]
     e = out.e
     e[row, 0] = en[EN_INPUT]
     e[row, 1] = 0.5 * _band_quadratic(md.MbT, md.bw, v)
-    e[row, 2] = 0.5 * _band_quadratic(md.KbT, md.bw, u)
+    story_stored = elements_stored(el, FAMILY_STORY)
+    # a yielding story's recoverable energy is F²/(2k): K's k δ²/2 plus its element's part
+    e[row, 2] = 0.5 * _band_quadratic(md.KbT, md.bw, u) + story_stored
     e[row, 3] = en[EN_DAMP]
     e[row, 4] = en[EN_CONTACT] - stored
     e[row, 5] = stored
     e[row, 6] = en[EN_FRICTION]
     e[row, 7] = en[EN_ALG]
-    el_stored = elements_stored(el)
-    e[row, 8] = en[EN_ELEMENTS] - el_stored
-    e[row, 9] = el_stored
+    link_stored = elements_stored(el, FAMILY_LINK)
+    e[row, 8] = en[EN_ELEMENTS + FAMILY_LINK] - link_stored
+    e[row, 9] = link_stored
+    e[row, 10] = en[EN_ELEMENTS + FAMILY_STORY] - story_stored

@@ -36,6 +36,7 @@ ENERGY_TERMS = (
     "algorithmic",
     "link_dissipated",
     "link_stored",
+    "hysteretic",
 )
 
 #: Fields of :attr:`RawResult.impacts`, one array per field, one entry per impact.
@@ -100,7 +101,11 @@ class RawResult:
     damping; see :mod:`pounding.integrators.newmark`). Per coupling link
     (:class:`pounding.system.LinkElements`): ``link_force`` [N] on the output grid and
     ``peak_link_force`` (absolute maximum over every step); ``link_stored`` is the energy its
-    spring holds, ``link_dissipated`` the rest of the work its force did.
+    spring holds, ``link_dissipated`` the rest of the work its force did. Per yielding story
+    (:class:`pounding.system.StoryElements`): ``story_force`` [N], its spring force on the output
+    grid, ``peak_story_force`` over every step, ``story_hysteretic`` [J] the work ∫F dδ of its
+    spring less its recoverable F²/(2k) at the end; the energy columns put that recoverable part
+    in ``strain`` and the rest of the stories' work in ``hysteretic``.
     """
 
     time: np.ndarray
@@ -122,6 +127,9 @@ class RawResult:
     stick: np.ndarray | None = None
     link_force: np.ndarray | None = None
     peak_link_force: np.ndarray | None = None
+    story_force: np.ndarray | None = None
+    peak_story_force: np.ndarray | None = None
+    story_hysteretic: np.ndarray | None = None
 
 
 def response_scales(system: PoundingSystem, ground: GroundMotion) -> tuple[float, float]:

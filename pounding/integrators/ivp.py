@@ -430,6 +430,7 @@ class _Model:
                 np.zeros(t.size),  # algorithmic: none, the integration error is controlled instead
                 np.zeros(t.size),  # link_dissipated, link_stored: no links on this path
                 np.zeros(t.size),
+                np.zeros(t.size),  # hysteretic: no yielding stories on this path
             )
         )
         below = np.where(self.below >= 0, u[:, np.maximum(self.below, 0)], 0.0)
@@ -831,6 +832,12 @@ def integrate_ivp(
         raise PoundingInputError(
             f"the system has {len(system.links)} coupling link(s); analysis.method = 'ivp' does "
             "not integrate links; allowed with links: newmark, linear_acceleration, hht"
+        )
+    if len(system.stories):
+        models = sorted(set(system.stories.model))
+        raise PoundingInputError(
+            f"stories.model = {models[0]!r}: analysis.method = 'ivp' integrates elastic stories "
+            "only; allowed with yielding stories: newmark, linear_acceleration, hht"
         )
     method, rtol, atol, max_step, times = _validate(method, rtol, atol, max_step, output_times)
     if not isinstance(system, PoundingSystem):

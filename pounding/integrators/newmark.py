@@ -62,7 +62,8 @@ from pounding.integrators.base import (
     response_scales,
     v0_floor,
 )
-from pounding.links import FAMILY_LINK, N_LINK_STATE
+from pounding.links import FAMILY_LINK, N_LINK_PARAMS, N_LINK_STATE
+from pounding.stories import FAMILY_STORY, N_STORY_PARAMS, N_STORY_STATE, SS_F, SS_W
 from pounding.system import PoundingSystem
 
 #: Newton iterations per step and step halvings allowed by default.
@@ -239,16 +240,28 @@ class ElementFamilyRows:
 
 
 def element_families(system: PoundingSystem) -> ElementFamilyRows:
-    """The rows of every element family of ``system`` beyond gaps and friction."""
-    links = system.links
+    """The rows of every element family of ``system`` beyond gaps and friction: the links, then
+    the yielding stories; parameters and state as wide as the widest family."""
+    families = ((FAMILY_LINK, system.links), (FAMILY_STORY, system.stories))
+    width = max(N_LINK_PARAMS, N_STORY_PARAMS)
+    params = np.zeros((sum(len(f) for _, f in families), width))
+    row = 0
+    for _, f in families:
+        params[row : row + len(f), : f.params.shape[1]] = f.params
+        row += len(f)
     return ElementFamilyRows(
-        kind=np.full(len(links), FAMILY_LINK, dtype=np.int64),
-        law=links.law_id,
-        dof=links.dof,
-        sign=links.sign,
-        params=links.params,
-        n_state=N_LINK_STATE,
+        kind=np.concatenate([np.full(len(f), kind, dtype=np.int64) for kind, f in families]),
+        law=np.concatenate([f.law_id for _, f in families]).astype(np.int64),
+        dof=np.vstack([f.dof for _, f in families]).astype(np.int64),
+        sign=np.vstack([f.sign for _, f in families]),
+        params=params,
+        n_state=max(N_LINK_STATE, N_STORY_STATE),
     )
+
+
+def _hysteretic(state: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """Hysteretic energy [J] of each story at its committed state: W − F²/(2k)."""
+    return state[:, SS_W] - 0.5 * state[:, SS_F] ** 2 / k
 
 
 def impact_paths(imp_val: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -323,8 +336,9 @@ def integrate_newmark(
             np.zeros(n_el), np.zeros(n_el), np.zeros(m), np.zeros(impact_capacity, dtype=np.int64),
             np.zeros((impact_capacity, kn.IMP_COLUMNS)), np.zeros(kn.N_COUNTERS, dtype=np.int64),
         )  # fmt: skip
+        elements = families.fresh()
         t_reached = kn.newmark_run(sy, kn.Scheme(sch.gamma, sch.beta, sch.alpha), gaps, friction,
-                                   families.fresh(), opts, int(n_steps), int(output_every), out)  # fmt: skip
+                                   elements, opts, int(n_steps), int(output_every), out)  # fmt: skip
         imp_el, imp_val, counters = out.imp_el, out.imp_val, out.counters
         status = counters[kn.CNT_STATUS]
         if status == kn.STATUS_IMPACT_LOG_FULL:
@@ -341,6 +355,7 @@ def integrate_newmark(
             )
         break
     n_imp = int(counters[kn.CNT_IMPACTS])
+    n_links = len(system.links)
     impacts = {"element": imp_el[:n_imp].copy()}
     for j, name in enumerate(IMPACT_FIELDS[1:]):
         impacts[name] = imp_val[:n_imp, j].copy()
@@ -362,8 +377,11 @@ def integrate_newmark(
         impacts=impacts,
         friction_force=out.ff,
         stick=out.st,
-        link_force=out.lf,
-        peak_link_force=out.peak_lf,
+        link_force=out.lf[:, :n_links],
+        peak_link_force=out.peak_lf[:n_links],
+        story_force=out.lf[:, n_links:],
+        peak_story_force=out.peak_lf[n_links:],
+        story_hysteretic=_hysteretic(elements.state[n_links:], system.stories.params[:, 0]),
         info={
             "integrator": sch.name,
             "gamma": sch.gamma,

@@ -1,0 +1,282 @@
+"""Yielding stories (bilinear kinematic hardening) as the second element family of the Newmark core:
+closed forms of the elastic–perfectly-plastic oscillator (Chopra ch. 7), the energy of a cycle, the
+exact update against an independent return map, an independent solve_ivp integration of a
+3-storey building pounding on a wall, the energy ledger and the case file."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from pounding import PoundingInputError, simulate
+from pounding.case import CaseError, case_from_dict
+from pounding.ground_motion import GroundMotion, sine_pulse
+from pounding.stories import SS_F, SS_W, Stories, bilinear_story_kernel
+from pounding.structure import RayleighDamping, ShearBuilding
+from pounding.system import Contact, assemble
+
+M, T = 1.0e5, 0.5
+K = M * (2.0 * math.pi / T) ** 2
+FY = 2.0e5
+DY = FY / K
+OMEGA = 2.0 * math.pi / T
+
+
+def _sdof(ratio: float = 0.0, hardening: float = 0.0) -> ShearBuilding:
+    stories = Stories("bilinear", {"yield_force": FY, "hardening": hardening})
+    return ShearBuilding(
+        "S", [M], [K], [3.0], damping=RayleighDamping(ratio=ratio), stories=stories
+    )
+
+
+def _pulse(r: float, tau: float, duration: float, steps_per_period: int = 1000):
+    """A rectangular force pulse p0 = r F_y of duration t_d = τ/ω as the ground acceleration
+    −p0/m, and the record step. The record is interpolated linearly and starts from 0 (as every
+    record does): samples 1..N hold the pulse, so it ramps up around dt/2 and down around
+    (N + ½) dt, a pulse of exactly N dt = t_d shifted by dt/2."""
+    t_d = tau / OMEGA
+    n_on = round(t_d / (T / steps_per_period))
+    dt = t_d / n_on
+    acc = np.zeros(round(duration / dt) + 1)
+    acc[1 : n_on + 1] = -r * FY / M
+    return GroundMotion(acc, dt), dt
+
+
+def _rectangular_pulse_ductility(r: float, tau: float) -> float:
+    """Undamped EPP oscillator, rectangular pulse r = p0/F_y, τ = ω t_d (units δ_y and 1/ω)."""
+    if 2.0 * r * math.sin(min(tau, math.pi) / 2.0) <= 1.0:
+        return 2.0 * r * math.sin(min(tau, math.pi) / 2.0)  # no yield
+    tau1 = math.acos(1.0 - 1.0 / r)  # yield during the pulse when τ1 < τ
+    if tau1 >= tau:
+        return 0.5 + r * r * (1.0 - math.cos(tau))  # μ = ½ + W/(F_y δ_y), W = p0 u(t_d)
+    v1, s = r * math.sin(tau1), tau - tau1
+    if r < 1.0 and v1 / (1.0 - r) <= s:
+        return 1.0 / (2.0 * (1.0 - r))  # the peak inside the pulse
+    return 0.5 + r * (1.0 + v1 * s + 0.5 * (r - 1.0) * s * s)
+
+
+@pytest.mark.parametrize(
+    "r, tau, mu", [(0.8, 1.8, 1.2854), (0.8, 2.5, 1.6826), (1.2, 2.0, 2.5899), (2.0, 1.0, 2.3388)]
+)
+def test_epp_oscillator_under_a_rectangular_pulse_reaches_the_closed_form_ductility(r, tau, mu):
+    # yield after the pulse, during it with the peak after it, or beyond F_y (r > 1)
+    exact = _rectangular_pulse_ductility(r, tau)
+    assert exact == pytest.approx(mu, abs=6e-5)  # the published 4-digit values
+    gm, dt = _pulse(r, tau, 2.0)
+    ds = simulate(assemble([_sdof()]), gm, dt=dt, output_dt=dt, duration=2.0)
+    assert float(ds.story_ductility.sel(building="S", story=1)) == pytest.approx(exact, rel=5e-5)
+
+
+def test_damped_epp_oscillator_comes_to_rest_at_its_peak_less_the_yield_drift():
+    # after its only excursion an EPP system vibrates elastically about u_m − δ_y: residual drift
+    # = peak − δ_y, with viscous damping too (the peak then from the damped run)
+    gm, dt = _pulse(0.9, 2.5, 20.0, steps_per_period=2000)
+    ds = simulate(assemble([_sdof(ratio=0.05)]), gm, dt=dt, output_dt=dt, duration=20.0)
+    peak = float(ds.peak_displacement.max())
+    assert peak > 1.5 * DY
+    residual = float(ds.residual_drift.sel(building="S", story=1))
+    assert residual == pytest.approx(peak - DY, rel=1e-4)
+    assert float(ds.residual_drift_ratio.sel(building="S", story=1)) == pytest.approx(
+        residual / 3.0
+    )
+
+
+def _drive(history: np.ndarray, k: float, fy: float, b: float) -> np.ndarray:
+    """Run the kernel along a drift history; rows (F, tangent, W)."""
+    p = np.array([k, fy, b])
+    s0, s1 = np.zeros(3), np.zeros(3)
+    out = []
+    for d in history:
+        corr, dk, _ = bilinear_story_kernel(d, 0.0, 0.01, s0, s1, p)
+        assert corr == pytest.approx(s1[SS_F] - k * d)
+        out.append((s1[SS_F], dk + k, s1[SS_W]))
+        s0[:] = s1
+    return np.array(out)
+
+
+def test_bilinear_cycle_dissipates_the_closed_form_loop_area():
+    # cycles ±u0 (u0 > δ_y), kinematic hardening: E_D = 4 (1 − b) F_y (u0 − δ_y) = 7.2 for
+    # b = 0.1, F_y = k = 1, u0 = 3
+    u0 = 3.0
+    up = np.linspace(0.0, u0, 3001)
+    cycle = np.concatenate((np.linspace(u0, -u0, 6001)[1:], np.linspace(-u0, u0, 6001)[1:]))
+    rows = _drive(np.concatenate((up, cycle, cycle)), 1.0, 1.0, 0.1)
+    w_first = rows[up.size - 1, 2]
+    w_one = rows[up.size - 1 + cycle.size, 2]
+    w_two = rows[-1, 2]
+    assert w_one - w_first == pytest.approx(7.2, rel=1e-9)
+    assert w_two - w_one == pytest.approx(7.2, rel=1e-9)
+
+
+def _return_map(history: np.ndarray, k: float, fy: float, b: float) -> np.ndarray:
+    """Independent kinematic-hardening return map with back force q, H = b k/(1 − b)."""
+    h = b * k / (1.0 - b)
+    f = q = d_prev = 0.0
+    out = []
+    for d in history:
+        f_tr = f + k * (d - d_prev)
+        xi = f_tr - q
+        if abs(xi) > fy:
+            dg = (abs(xi) - fy) / (k + h)
+            f = f_tr - k * dg * math.copysign(1.0, xi)
+            q += h * dg * math.copysign(1.0, xi)
+            kt = k * h / (k + h)
+        else:
+            f, kt = f_tr, k
+        d_prev = d
+        out.append((f, kt))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("b", [0.0, 0.03, 0.5])
+def test_bilinear_update_equals_the_return_map_for_any_step(b):
+    rng = np.random.default_rng(7)
+    history = np.cumsum(rng.normal(0.0, 0.8, 400)) * 1e-3  # large, irregular steps [m]
+    k, fy = 2.0e7, 1.5e4
+    ours = _drive(history, k, fy, b)
+    ref = _return_map(history, k, fy, max(b, 0.0))
+    np.testing.assert_allclose(ours[:, 0], ref[:, 0], rtol=1e-12, atol=1e-9 * fy)
+    np.testing.assert_allclose(ours[:, 1], ref[:, 1], rtol=1e-12)
+    assert np.abs(ours[:, 0]).max() > 1.5 * fy or b == 0.0
+
+
+def _pair(stories: Stories | None, gap: float = 0.01) -> tuple:
+    a = ShearBuilding.uniform("A", 3, period=0.35, mass=2.0e5, stories=stories)
+    b = ShearBuilding.uniform("B", 6, period=0.8, mass=2.5e5)
+    return [a, b], [Contact("A", "B", gap=gap, law="hertz", k=5.0e9)]
+
+
+def test_bilinear_stories_with_full_hardening_equal_elastic_stories():
+    gm = sine_pulse(amplitude=0.4 * 9.80665, period=0.6, duration=4.0, dt=0.005)
+    opts = dict(dt=0.001, output_dt=0.01)
+    elastic = simulate(assemble(*_pair(None)), gm, **opts)
+    b1 = simulate(
+        assemble(*_pair(Stories("bilinear", {"yield_drift": 0.002, "hardening": 1.0}))), gm, **opts
+    )
+    scale = float(abs(elastic.displacement).max())
+    assert float(abs(b1.displacement - elastic.displacement).max()) < 1e-8 * scale
+    assert int(b1.impact_count.sum()) == int(elastic.impact_count.sum()) > 0
+    assert float(abs(b1.energy.sel(term="hysteretic")).max()) < 1e-8 * float(b1.energy[-1, 0])
+
+
+def _reference(system, gm: GroundMotion, duration: float, wall_k: float, gap: float):
+    """Independent solve_ivp of a bilinear-story building against a Hertz wall: state (u, v, F) with
+    Ḟ = k δ̇ inside the elastic range and b k δ̇ on a hardening line moving outwards."""
+    b = system.buildings[0]
+    n = b.n_floors
+    m = b.masses
+    c = system.damping
+    p = b.story_parameters()
+    k, fy, hb = p[:, 0], p[:, 1], p[:, 2]
+    t_rec = gm.dt * np.arange(gm.acceleration.size)
+
+    def rhs(t, y):
+        u, v, f = y[:n], y[n : 2 * n], y[2 * n :]
+        du = np.diff(np.concatenate(([0.0], u)))
+        dv = np.diff(np.concatenate(([0.0], v)))
+        upper = hb * k * du + (1.0 - hb) * fy
+        lower = hb * k * du - (1.0 - hb) * fy
+        plastic = ((f >= upper) & (dv > 0.0)) | ((f <= lower) & (dv < 0.0))
+        fdot = np.where(plastic, hb * k * dv, k * dv)
+        internal = f - np.append(f[1:], 0.0)
+        pen = u[-1] - gap
+        contact = np.zeros(n)
+        if pen > 0.0:
+            contact[-1] = wall_k * pen**1.5
+        ag = np.interp(t, t_rec, gm.acceleration)
+        a = (-internal - c @ v - contact) / m - ag
+        return np.concatenate((v, a, fdot))
+
+    t_eval = np.arange(0.0, duration + 1e-12, 0.01)
+    sol = solve_ivp(rhs, (0.0, duration), np.zeros(3 * n), method="DOP853", t_eval=t_eval,
+                    rtol=1e-10, atol=1e-13, max_step=2e-4)  # fmt: skip
+    assert sol.success
+    return sol.t, sol.y[:n].T, sol.y[2 * n :].T
+
+
+def test_yielding_building_pounding_on_a_wall_matches_an_independent_solve_ivp():
+    stories = Stories("bilinear", {"yield_drift": 0.003, "hardening": 0.05})
+    building = ShearBuilding.uniform("A", 3, period=0.4, mass=2.0e5, stories=stories)
+    gap, wall_k = 0.02, 2.0e9
+    system = assemble(
+        [building], [Contact("A", "wall", gap=gap, law="hertz", k=wall_k, floors=[3])]
+    )
+    gm = sine_pulse(amplitude=0.5 * 9.80665, period=0.6, duration=3.0, dt=0.002)
+    ds = simulate(system, gm, dt=2e-4, output_dt=0.01, duration=3.0)
+    t, u_ref, f_ref = _reference(system, gm, 3.0, wall_k, gap)
+    u = ds.displacement.sel(building="A").values
+    f = ds.story_spring_force.sel(building="A").values
+    assert int(ds.impact_count.sum()) >= 1
+    assert float(ds.story_ductility.max()) > 2.0  # well into the inelastic range
+    scale_u, scale_f = np.abs(u_ref).max(), np.abs(f_ref).max()
+    assert np.abs(u - u_ref).max() < 0.01 * scale_u
+    assert np.abs(f - f_ref).max() < 0.01 * scale_f
+    np.testing.assert_allclose(np.abs(u).max(axis=0), np.abs(u_ref).max(axis=0), rtol=5e-3)
+    np.testing.assert_allclose(
+        ds.peak_story_spring_force.sel(building="A"), np.abs(f_ref).max(axis=0), rtol=5e-3
+    )
+
+
+def test_stories_table_of_a_case_file():
+    base = {
+        "building": [
+            {
+                "name": "A",
+                "n_floors": 2,
+                "period": 0.3,
+                "mass": 1e5,
+                "stories": {
+                    "model": "bilinear",
+                    "yield_force": [4e5, 3e5],
+                    "hardening": 0.02,
+                    "ultimate_drift": 0.03,
+                },
+            }
+        ],
+        "ground_motion": {"type": "sine_pulse", "amplitude": 3.0, "period": 0.5, "duration": 2.0},
+    }
+    case = case_from_dict(base)
+    b = case.system.buildings[0]
+    assert b.stories.model == "bilinear"
+    np.testing.assert_allclose(b.story_parameters()[:, 1], [4e5, 3e5])
+    ds = simulate(case)
+    d = ds.park_ang_damage.sel(building="A").values
+    # D = δ_m/δ_u + β E_h/(F_y δ_u), β = 0.05 by default
+    du = 0.03 * 3.0
+    e_h = ds.hysteretic_energy.sel(building="A").values
+    peak = ds.peak_drift_ratio.sel(building="A").values * 3.0
+    np.testing.assert_allclose(d, peak / du + 0.05 * e_h / (np.array([4e5, 3e5]) * du))
+    for attrs in (ds[v].attrs for v in ("story_ductility", "hysteretic_energy", "park_ang_damage")):
+        assert attrs["units"] and attrs["long_name"]
+
+
+@pytest.mark.parametrize(
+    "stories, message",
+    [
+        ({"model": "plastic"}, "allowed: elastic, bilinear"),
+        ({"model": "bilinear"}, "needs exactly one of yield_drift"),
+        ({"model": "bilinear", "yield_drift": 0.01, "yield_force": 1e5}, "given: yield_drift"),
+        ({"model": "bilinear", "yield_drift": [0.01, 0.02, 0.03]}, "one number, or 2"),
+        ({"model": "bilinear", "yield_drift": 0.01, "hardening": 1.5}, "hardening[0] = 1.5"),
+        ({"model": "bilinear", "yield_drift": 0.01, "k": 3}, "allowed: yield_drift"),
+        ({"model": "bilinear", "yield_force": -2.0}, "yield_force[0] = -2 N"),
+        ({"model": "bilinear", "yield_drift": 0.01, "park_ang_beta": 0.1}, "ultimate_drift"),
+        ({"yield_drift": 0.01}, "stories.model is required"),
+        ("bilinear", "must be a table"),
+    ],
+)
+def test_inconsistent_stories_tables_are_refused_naming_the_key(stories, message):
+    spec = {"name": "A", "n_floors": 2, "period": 0.3, "mass": 1e5, "stories": stories}
+    with pytest.raises(CaseError, match="building") as err:
+        case_from_dict({"building": [spec], "ground_motion": {"type": "sine_pulse"}})
+    assert message in str(err.value)
+
+
+def test_ivp_path_refuses_yielding_stories_before_integrating():
+    system = assemble(*_pair(Stories("bilinear", {"yield_drift": 0.004})))
+    gm = sine_pulse(amplitude=3.0, period=0.5, duration=1.0, dt=0.01)
+    with pytest.raises(PoundingInputError, match="allowed with yielding stories: newmark"):
+        simulate(system, gm, method="ivp")
