@@ -49,6 +49,8 @@ _LAZY = {
     "Contact": "pounding.system",
     "Link": "pounding.system",
     "LINK_LAWS": "pounding.links",
+    "Stories": "pounding.stories",
+    "STORY_MODELS": "pounding.stories",
     "PoundingSystem": "pounding.system",
     "assemble": "pounding.system",
     "separation_analysis": "pounding.separation",
@@ -71,6 +73,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs (not report and separation: impo
     from pounding.links import LINK_LAWS
     from pounding.results import open_result, save
     from pounding.simulate import AnalysisOptions, simulate
+    from pounding.stories import STORY_MODELS, Stories
     from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
     from pounding.studies import (
         Study,
@@ -120,6 +123,8 @@ __all__ = [
     "ConvergenceError",
     "LINK_LAWS",
     "Link",
+    "STORY_MODELS",
+    "Stories",
     "IntegrationError",
     "PoundingError",
     "PoundingInputError",

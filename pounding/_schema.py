@@ -744,6 +744,12 @@ def summary(variables: Mapping[str, tuple[tuple[str, ...], Any, Any]], attrs: Ma
             base = float(val("peak_base_displacement")[i])
             if math.isfinite(base):
                 entry["peak_base_displacement"] = base
+        if "story_ductility" in variables and math.isfinite(_nanmax(val("yield_force")[i])):
+            entry["peak_story_ductility"] = _nanmax(val("story_ductility")[i])
+            entry["max_residual_drift_ratio"] = _nanmax(np.abs(val("residual_drift_ratio")[i]))
+            entry["hysteretic_energy"] = float(np.nansum(val("hysteretic_energy")[i]))
+            if "park_ang_damage" in variables:
+                entry["max_park_ang_damage"] = _nanmax(val("park_ang_damage")[i])
         out["buildings"][str(b)] = entry
     for j, c in enumerate(val("contact")):
         out["contacts"].append(

@@ -230,6 +230,15 @@ def _print_summary(result: Any, path: str | None) -> None:
                 else "flat sliders: no restoring stiffness, no isolated period"
             )
             typer.echo(f"  {name}: peak base (bearing) displacement {base:.4g} m; {period}")
+    for name, b in s["buildings"].items():
+        if "peak_story_ductility" in b:  # yielding stories only
+            damage = b.get("max_park_ang_damage")
+            typer.echo(
+                f"  {name}: yielding stories: peak ductility {b['peak_story_ductility']:.3g}, "
+                f"residual drift ratio {b['max_residual_drift_ratio']:.3g} (at the end), "
+                f"hysteretic energy {b['hysteretic_energy']:.4g} J"
+                + (f", Park-Ang damage {damage:.3g}" if damage is not None else "")
+            )
     terms = list(variables["term"][1])
     if "friction_dissipated" in terms:
         fr = float(variables["energy"][1][-1, terms.index("friction_dissipated")])
@@ -299,7 +308,8 @@ app.add_typer(laws_app, name="laws")
 
 @laws_app.callback()
 def laws(ctx: typer.Context) -> None:
-    """List the contact, friction and coupling-link laws with their force law and reference."""
+    """List the contact, friction and coupling-link laws and the story models with their force law
+    and reference."""
     if ctx.invoked_subcommand is not None:
         return
     from pounding.contact.laws import LAWS_BY_ID
@@ -321,6 +331,18 @@ def laws(ctx: typer.Context) -> None:
     for link in LINKS_BY_ID:
         keys = ", ".join(f"{key} [{unit}]" for key, unit, _ in link.parameters)
         typer.echo(f"  {link.name}: {link.formula}; {keys}; {link.reference}")
+    from pounding.stories import STORY_MODELS
+
+    typer.echo(
+        "story models ([[building]] stories.model: force; parameters; reference; OpenSees material)"
+    )
+    for model in STORY_MODELS.values():
+        keys = ["yield_drift [-] or yield_force [N]"] if model.kernel is not None else []
+        keys += [f"{key} [{unit or '-'}]" for key, unit, *_ in model.parameters]
+        typer.echo(
+            f"  {model.name}: {model.formula}; {', '.join(keys) or 'no parameters'}; "
+            f"{model.reference}; {model.opensees}"
+        )
 
 
 @laws_app.command("restitution")

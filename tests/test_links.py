@@ -15,7 +15,7 @@ from pounding import PoundingInputError, simulate
 from pounding.case import case_from_dict
 from pounding.ground_motion import sine_pulse
 from pounding.links import LINK_LAWS, maxwell_link_kernel, viscous_link_kernel
-from pounding.structure import ShearBuilding
+from pounding.structure import RayleighDamping, ShearBuilding
 from pounding.system import LEFT_SIGN, RIGHT_SIGN, Contact, Link, assemble
 
 
@@ -276,3 +276,19 @@ def test_compiled_link_dispatch_calls_the_registered_kernel(law):
         np.testing.assert_allclose(s_c, s_p, rtol=1e-14)
         stored = element_stored(FAMILY_LINK, law.kernel_id, d, got[0], s_c, p)
         assert stored == pytest.approx(law.stored(d, got[0], s_c, p), rel=1e-14)
+
+
+def test_story_shear_of_linked_undamped_buildings_is_the_story_spring_force():
+    # undamped stories: V_i = k_i δ_i exactly, taken from the floors' equilibrium, which must
+    # include the link forces acting on the floors above (they were missing)
+    bl = [
+        ShearBuilding.uniform("A", 3, period=0.3, mass=2.0e5, damping=RayleighDamping(ratio=0.0)),
+        ShearBuilding.uniform("B", 5, period=0.9, mass=2.0e5, damping=RayleighDamping(ratio=0.0)),
+    ]
+    system = assemble(bl, [], [Link("A", "B", "kelvin", k=4.0e7)])
+    gm = sine_pulse(amplitude=0.3 * 9.80665, period=0.6, duration=2.0, dt=0.005)
+    ds = simulate(system, gm, dt=0.001, output_dt=0.01)
+    spring = ds.drift * ds.story_stiffness
+    scale = float(abs(spring).max())
+    assert float(abs(ds.link_force).max()) > 0.05 * scale
+    assert float(abs(ds.story_shear - spring).max()) < 1e-6 * scale

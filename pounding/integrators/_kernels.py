@@ -6,6 +6,8 @@ event helpers (``_events``) and the linear algebra (``_linalg``)."""
 
 from __future__ import annotations
 
+import signal
+
 import numpy as np
 
 from pounding._numba import jit, jit_inline, jit_internal, jit_kernel  # noqa: F401  (re-exported: the kernels' decorators)
@@ -14,6 +16,7 @@ from pounding._numba import jit, jit_inline, jit_internal, jit_kernel  # noqa: F
 from pounding.integrators._coefficients import Coef, newmark_coefficients  # noqa: F401
 from pounding.integrators._dispatch import (  # noqa: F401
     BILINEAR_ID,
+    FAMILY_STORY,
     bilinear_rate,
     bouc_wen_rate,
     bouc_wen_slide,
@@ -90,6 +93,7 @@ from pounding.integrators._steps import (  # noqa: F401
     dense_map,
     dense_step,
     equilibrium,
+    hold_elements,
     linear_step,
     linear_step_coulomb,
     newton,
@@ -198,26 +202,31 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     linear = el.kind.size == 0
     for k in range(n_fr):
         linear = linear and fr.kind[k] == FRICTION_COULOMB
+    # yielding stories alone: linear while every one stays on its elastic branch
+    stories = el.kind.size > 0 and n_fr == 0
+    for e in range(el.kind.size):
+        stories = stories and el.kind[e] == FAMILY_STORY
     condensable = n_fr == 0 and el.kind.size == 0
     g_start = ground_at(md.ag, md.ag_dt, t)
-    if not in_contact and hs == h and linear:
-        # open gaps, Coulomb slabs stuck or sliding: the exact linear step
+    if not in_contact and hs == h and (linear or stories):
+        # open gaps, Coulomb slabs stuck or sliding, stories elastic: the exact linear step
         cf = newmark_coefficients(hs, sch)
         g_eff = cf.w * ground_at(md.ag, md.ag_dt, t + hs) - cf.alpha * g_start
         if n_fr == 0:
             linear_step(md, fac_h, g_eff, cf, x0, tr, wk.lin)
         else:
             linear_step_coulomb(md, fac_h, g_eff, cf, x0, fr, tr, wk)
-        closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)
-        for c in range(gaps.gap.size):
-            tr.f1[c] = 0.0
-        if closed and not opts.locate_onset and n_fr == 0:
-            ok, its = contact_step(fac_h, cf, x0[0], gaps, none_off, opts, tr, wk)
-            return ok, its, hs
-        if closed and not opts.locate_onset:
-            ok, its = newton(hs, t, x0, md, sch, gaps, none_off, fr, el, fac_h, opts, tr, wk)
-            return ok, its, hs
-        return True, 0, hs
+        if not stories or hold_elements(md, fac_h, cf, hs, el, tr, wk.lin):
+            closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)
+            for c in range(gaps.gap.size):
+                tr.f1[c] = 0.0
+            if closed and not opts.locate_onset and n_fr == 0 and el.kind.size == 0:
+                ok, its = contact_step(fac_h, cf, x0[0], gaps, none_off, opts, tr, wk)
+                return ok, its, hs
+            if closed and not opts.locate_onset:
+                ok, its = newton(hs, t, x0, md, sch, gaps, none_off, fr, el, fac_h, opts, tr, wk)
+                return ok, its, hs
+            return True, 0, hs
     if in_contact and abs(hs - h_contact) <= 1e-8 * h_contact and fac_c.h[0] != h_contact:
         # a new contact step size: its tangent inverse serves every step of the impact
         refactor(hs, md, sch, fac_c)
@@ -457,6 +466,22 @@ def _adapt(onset, hs, gaps, tr, ctl, opts):
     ctl[CT_HSEP] = h_sep
 
 
+_HELD = (signal.SIGINT, signal.SIGTERM)
+
+
+def _hold_signals():
+    """Block SIGINT and SIGTERM in this thread (they stay pending); the previous mask, or None
+    where the platform has no ``pthread_sigmask``."""
+    if not hasattr(signal, "pthread_sigmask"):
+        return None
+    return signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+
+
+def _release_signals(previous) -> None:
+    if previous is not None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def newmark_run(sy, sch, gaps, fr, el, opts, n_steps, out_every, out):
     """Integrate from rest over n_steps base steps of opts.h; outputs every out_every steps (row 0 =
     t 0) into ``out``. Returns the final time reached; ``out.counters[CNT_STATUS]`` tells success or
@@ -470,7 +495,14 @@ def newmark_run(sy, sch, gaps, fr, el, opts, n_steps, out_every, out):
     allocates none. A Python function joins the two compiled ones: compiled, it would link and
     optimise the whole core once more (12 s of a cold compilation).
     """
-    md, fac_h, fac_c, tr, wk, ls = _prepare(sy, sch, gaps, fr, el, opts.h)
+    # SIGINT/SIGTERM held while numba boxes _prepare's groups: boxing calls each namedtuple's
+    # Python __new__, where a handler that raises (Ctrl-C, a study's stop) crashed the process
+    # (a segfault in about 1 of 10 SIGTERMs sent to a serial study at that moment)
+    held = _hold_signals()
+    try:
+        md, fac_h, fac_c, tr, wk, ls = _prepare(sy, sch, gaps, fr, el, opts.h)
+    finally:
+        _release_signals(held)
     return _integrate(md, sch, gaps, fr, el, opts, (fac_h, fac_c), tr, wk, ls, n_steps, out_every,
                       out)  # fmt: skip
 

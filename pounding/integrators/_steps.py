@@ -122,6 +122,41 @@ def linear_step(md, fac, g_eff, cf, x0, tr, lin):
 
 
 @jit_internal
+def hold_elements(md, fac, cf, h, el, tr, lin):
+    """Complete the linear step with the element families' committed forces f0 held over it, and
+    True when that holds: every element ends the step with the same force and no tangent of its
+    own (a yielding story that stays on its elastic branch: F − k δ is constant there). The
+    weighted equation gains −Bᵀf0 (w − α = 1): the increment J⁻¹(−Bᵀf0) superposes."""
+    p, q, rhs, du = lin
+    n = tr.u1.size
+    loaded = False
+    for i in range(n):
+        rhs[i] = 0.0
+    for e in range(el.kind.size):
+        f = el.f0[e]
+        if f != 0.0:
+            loaded = True
+            for s in range(2):
+                i = el.dof[e, s]
+                if i >= 0:
+                    rhs[i] -= el.sign[e, s] * f
+    if loaded:
+        band_solve(fac.L, fac.D, md.bw, rhs, du)
+        for i in range(n):
+            tr.u1[i] += du[i]
+            tr.a1[i] += cf.c0 * du[i]
+            tr.v1[i] += cf.c1 * du[i]
+    eval_elements(tr.u1, tr.v1, h, el)
+    for e in range(el.kind.size):
+        # round-off of F − k δ on the elastic branch: ε of the spring force
+        if el.kd[e] != 0.0 or el.cd[e] != 0.0:
+            return False
+        if abs(el.f1[e] - el.f0[e]) > 1e-12 * (abs(el.trial[e, 0]) + abs(el.f0[e])) + 1e-300:
+            return False
+    return True
+
+
+@jit_internal
 def linear_step_coulomb(md, fac, g_eff, cf, x0, fr, tr, wk):
     """The linear step with Coulomb slabs: sliding ones load their base with the known force
     w f1 − α f0 (f = ±μ_d N), stuck ones hold u_b by reactions λ solved from J⁻¹ restricted to the
