@@ -84,7 +84,9 @@ def main(argv: list[str] | None = None) -> int:
             f"peak story ductility {rows[label]['peak_ductility']})"
         )
     for label in rows:
-        rows[label]["ratio_to_elastic"] = rows[label]["us_per_step"] / rows["elastic"]["us_per_step"]
+        rows[label]["ratio_to_elastic"] = (
+            rows[label]["us_per_step"] / rows["elastic"]["us_per_step"]
+        )
     info = machine()
     print(machine_markdown(info))
     payload = {"command": " ".join(["python benchmarks/yielding_cost.py", *(argv or sys.argv[1:])]),
