@@ -133,6 +133,10 @@ ATTRS: dict[str, dict[str, str]] = {
         "long_name": "inter-story drift ratio at the end of the analysis",
     },
     "story_model": {"long_name": "story model (elastic or hysteretic)"},
+    "collapse_time": {
+        "units": "s",
+        "long_name": "first time a story drift ratio exceeds collapse_drift (NaN: no collapse)",
+    },
     "story_spring_force": {
         "units": "N",
         "long_name": "story spring (restoring) force, without damping",
@@ -375,6 +379,10 @@ def result_variables(
             "drift_ratio": (("time", "building", "story"), drift / heights),
             "story_shear": (("time", "building", "story"), shear),
             "base_shear": (("time", "building"), shear[:, :, 0]),
+            "collapse_time": (
+                ("building",),
+                _collapse_times(raw, drift / heights, per_building(raw.peak_drift) / heights),
+            ),
             "residual_drift": (("building", "story"), drift[-1]),
             "residual_drift_ratio": (("building", "story"), drift[-1] / heights),
             "penetration": (("time", "contact"), raw.penetration.reshape(nt, n_el)),
@@ -631,6 +639,21 @@ def _isolation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tu
     return out
 
 
+def _collapse_times(raw: RawResult, ratio: np.ndarray, peak_ratio: np.ndarray) -> np.ndarray:
+    """Per building, the first output time a story drift ratio exceeds the run's collapse drift,
+    or the time an analysis stopped past it (NaN: no collapse)."""
+    limit = float(raw.info.get("collapse_drift", np.inf))
+    with np.errstate(invalid="ignore"):
+        beyond = np.abs(np.nan_to_num(ratio, nan=0.0)) > limit  # (time, building, story)
+    hit = beyond.any(axis=2)
+    out = np.where(hit.any(axis=0), raw.time[np.argmax(hit, axis=0)], np.nan)
+    stopped = float(raw.info.get("stopped_at", np.nan))
+    if math.isfinite(stopped):
+        past = np.nan_to_num(peak_ratio, nan=0.0).max(axis=1) > limit
+        out = np.where(np.isnan(out) & past, stopped, out)
+    return out
+
+
 def _story_variables(
     system: PoundingSystem, raw: RawResult, drift: np.ndarray, peak_drift: np.ndarray
 ) -> dict[str, tuple]:
@@ -691,6 +714,7 @@ def _link_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tuple]:
 
 def energy_balance_error(energy: np.ndarray) -> float:
     """max_t |E_input − Σ other terms| / max_t |E_input| (0 when nothing was put in)."""
+    energy = energy[np.isfinite(energy).all(axis=1)]  # rows after an analysis stopped are NaN
     residual = energy[:, 0] - energy[:, 1:].sum(axis=1)
     scale = float(np.max(np.abs(energy[:, 0]))) if energy.size else 0.0
     if scale == 0.0 or not math.isfinite(scale):
@@ -744,6 +768,9 @@ def summary(variables: Mapping[str, tuple[tuple[str, ...], Any, Any]], attrs: Ma
             base = float(val("peak_base_displacement")[i])
             if math.isfinite(base):
                 entry["peak_base_displacement"] = base
+        collapse = float(val("collapse_time")[i]) if "collapse_time" in variables else math.nan
+        if math.isfinite(collapse):
+            entry["collapse_time"] = collapse
         if "story_ductility" in variables and math.isfinite(_nanmax(val("yield_force")[i])):
             entry["peak_story_ductility"] = _nanmax(val("story_ductility")[i])
             entry["max_residual_drift_ratio"] = _nanmax(np.abs(val("residual_drift_ratio")[i]))
@@ -776,7 +803,13 @@ def _warnings(summary: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str]
     limit = float(attrs.get("drift_limit", np.nan))
     for name, b in summary["buildings"].items():
         drift = b["peak_drift_ratio"]
-        if math.isfinite(limit) and drift > limit:
+        if "collapse_time" in b:
+            found.append(
+                f"building {name}: collapse at t = {b['collapse_time']:.4g} s (a story drift ratio "
+                f"beyond [analysis] collapse_drift = {attrs.get('collapse_drift', np.nan):g}); the "
+                "analysis stops there"
+            )
+        elif math.isfinite(limit) and drift > limit and "peak_story_ductility" not in b:
             found.append(
                 f"building {name}: peak drift ratio {drift:.3g} exceeds the drift limit {limit:g}: "
                 "beyond it elastic stories are no model of a real building (the limit: "

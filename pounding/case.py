@@ -95,6 +95,7 @@ _BUILDING_KEYS = (
         "a table: story model { model, yield_drift or yield_force, hardening, ... } "
         "(README, yielding stories)",
     ),
+    Key("p_delta", "bool", "add the P-Δ geometric stiffness of the floors' gravity loads"),
 )
 _DAMPING_KEYS = (
     Key("ratio", "number", "Rayleigh damping ratio at both modes", low=0.0, high=1.0),
@@ -345,6 +346,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
             damping=damping,
             base=base,
             stories=stories,
+            p_delta=spec.get("p_delta", False),
         )
     for key in ("masses", "stiffnesses"):
         if key not in spec:
@@ -363,6 +365,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
         damping=damping,
         base=base,
         stories=stories,
+        p_delta=spec.get("p_delta", False),
     )
 
 

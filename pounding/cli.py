@@ -233,10 +233,14 @@ def _print_summary(result: Any, path: str | None) -> None:
     for name, b in s["buildings"].items():
         if "peak_story_ductility" in b:  # yielding stories only
             damage = b.get("max_park_ang_damage")
+            residual = (
+                f"collapsed at t = {b['collapse_time']:.4g} s"
+                if "collapse_time" in b
+                else f"residual drift ratio {b['max_residual_drift_ratio']:.3g} (at the end)"
+            )
             typer.echo(
                 f"  {name}: yielding stories: peak ductility {b['peak_story_ductility']:.3g}, "
-                f"residual drift ratio {b['max_residual_drift_ratio']:.3g} (at the end), "
-                f"hysteretic energy {b['hysteretic_energy']:.4g} J"
+                f"{residual}, hysteretic energy {b['hysteretic_energy']:.4g} J"
                 + (f", Park-Ang damage {damage:.3g}" if damage is not None else "")
             )
     terms = list(variables["term"][1])

@@ -68,6 +68,12 @@ STEPS_PER_CONTACT = 160
 #: building (the ``[output] drift_limit`` of a case file).
 DRIFT_LIMIT = 0.02
 
+#: Story drift ratio beyond which a building counts as collapsed (sidesway): the run records the
+#: time (``collapse_time``), and Newton's failure past it ends the analysis instead of an error.
+#: 10 % is the usual non-simulated limit of IDA studies (e.g. FEMA P695 archetypes; Vamvatsikos &
+#: Cornell 2002 use the flattening of the IDA curve, which this bounds).
+COLLAPSE_DRIFT = 0.10
+
 #: Output step [s] when none is given (or the integration step when that is longer).
 DEFAULT_OUTPUT_DT = 0.005
 
@@ -103,6 +109,8 @@ class AnalysisOptions:
         Steps per contact duration and per shortest natural period (both 160 by default).
     adaptive : bool
         Event-aware stepping (module docstring); False keeps one fixed step.
+    collapse_drift : float
+        Story drift ratio taken as (sidesway) collapse, default :data:`COLLAPSE_DRIFT`.
     """
 
     method: str = "newmark"
@@ -120,6 +128,7 @@ class AnalysisOptions:
     steps_per_contact: int = STEPS_PER_CONTACT
     steps_per_period: int = STEPS_PER_PERIOD
     adaptive: bool = True
+    collapse_drift: float = COLLAPSE_DRIFT
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -138,6 +147,10 @@ class AnalysisOptions:
             value = getattr(self, name)
             if not (math.isfinite(value) and 0 < value < 1):
                 raise PoundingInputError(f"analysis.{name} = {value}; allowed: 0 < {name} < 1")
+        if not (math.isfinite(self.collapse_drift) and self.collapse_drift > 0):
+            raise PoundingInputError(
+                f"analysis.collapse_drift = {self.collapse_drift}; allowed: a positive drift ratio"
+            )
         for name in ("max_iter", "steps_per_contact", "steps_per_period"):
             if int(getattr(self, name)) < 1:
                 raise PoundingInputError(f"analysis.{name} = {getattr(self, name)}; allowed: >= 1")
@@ -210,6 +223,16 @@ ANALYSIS_KEYS = (
     Key("steps_per_contact", "integer", "steps per contact duration", "", 1, 10000),
     Key("steps_per_period", "integer", "steps per shortest natural period", "", 1, 10000),
     Key("adaptive", "bool", "event-aware steps (false: one fixed step)"),
+    Key(
+        "collapse_drift",
+        "number",
+        f"story drift ratio taken as collapse (default {COLLAPSE_DRIFT}): its time is recorded, and "
+        "a failure to converge beyond it ends the analysis instead of an error",
+        "",
+        0.0,
+        10.0,
+        open_low=True,
+    ),
 )
 
 
@@ -505,6 +528,8 @@ def run(
             locate_onset=opts.locate_onset,
             adaptive=opts.adaptive,
             steps_per_contact=opts.steps_per_contact,
+            collapse_drift=opts.collapse_drift,
         )
+    raw.info["collapse_drift"] = float(opts.collapse_drift)
     info.update({k: v for k, v in raw.info.items() if k != "dt"})
     return raw, info

@@ -370,6 +370,7 @@ class ShearBuilding:
     damping: Damping = RayleighDamping()
     base: IsolationBase | None = None
     stories: Stories = Stories()
+    p_delta: bool = False
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
@@ -408,6 +409,15 @@ class ShearBuilding:
         if not isinstance(self.stories, Stories):
             raise PoundingInputError(
                 f"{where}: stories = {self.stories!r}; allowed: a pounding.Stories"
+            )
+        if not isinstance(self.p_delta, bool | np.bool_):
+            raise PoundingInputError(f"{where}: p_delta = {self.p_delta!r}; allowed: true, false")
+        theta = self.stability_coefficients()
+        if self.p_delta and theta.max() >= 1.0:
+            i = int(theta.argmax())
+            raise PoundingInputError(
+                f"{where}: story {i + 1} is unstable under its own gravity load with p_delta: "
+                f"θ = P/(k h) = {theta[i]:.3g} ≥ 1; stiffen it or lighten the floors above"
             )
         if self.stories.yielding:  # per-story parameters checked now, before any analysis
             self.story_parameters()
@@ -470,9 +480,23 @@ class ShearBuilding:
 
     def stiffness_matrix(self) -> np.ndarray:
         """Tridiagonal shear-building stiffness matrix K [N/m], shape (n, n) (Chopra Sec. 9.2)."""
-        k = self.stiffnesses
-        above = np.append(k[1:], 0.0)  # stiffness of the story above each floor; none above roof
-        return np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
+        return _shear_pattern(self.stiffnesses)
+
+    def gravity_loads(self) -> np.ndarray:
+        """Axial load P_i = g Σ_{j ≥ i} m_j [N] each story carries, lowest story first."""
+        return G * np.cumsum(self.masses[::-1])[::-1]
+
+    def stability_coefficients(self) -> np.ndarray:
+        """Elastic stability coefficient θ_i = P_i/(k_i h_i) of each story (ASCE 7-16 §12.8.7)."""
+        return self.gravity_loads() / (self.stiffnesses * self.heights)
+
+    def geometric_stiffness_matrix(self) -> np.ndarray:
+        """P-Δ geometric stiffness [N/m], shape (n, n): a spring −P_i/h_i across each story
+        (Wilson & Habibullah 1987); zero unless ``p_delta``. The dynamic analysis adds it to K;
+        the modes and the damping stay those of the elastic K."""
+        if not self.p_delta:
+            return np.zeros((self.n_floors, self.n_floors))
+        return _shear_pattern(-self.gravity_loads() / self.heights)
 
     def _uses_rayleigh(self) -> bool:
         return (
@@ -564,6 +588,7 @@ class ShearBuilding:
         damping: Damping = RayleighDamping(),  # noqa: B008 (frozen, immutable default)
         base: IsolationBase | None = None,
         stories: Stories | None = None,
+        p_delta: bool = False,
     ) -> ShearBuilding:
         """A building with equal floor masses and equal story stiffnesses.
 
@@ -592,6 +617,8 @@ class ShearBuilding:
             Base slab on isolation bearings (the period is the fixed-base one).
         stories : Stories, optional
             Story model (default elastic).
+        p_delta : bool
+            Add the P-Δ geometric stiffness (default False).
         """
         where = f"building {name!r}"
         if isinstance(n_floors, bool) or not isinstance(n_floors, int | np.integer) or n_floors < 1:
@@ -608,8 +635,15 @@ class ShearBuilding:
         n = int(n_floors)
         return cls(
             name, np.full(n, mass), np.full(n, k), np.full(n, height), damping, base,
-            stories or Stories(),
+            stories or Stories(), p_delta,
         )  # fmt: skip
+
+
+def _shear_pattern(k: np.ndarray) -> np.ndarray:
+    """The shear-building assembly of story springs k (lowest first): K_ii = k_i + k_(i+1),
+    K_i,i+1 = −k_(i+1)."""
+    above = np.append(k[1:], 0.0)  # the story above each floor; none above the roof
+    return np.diag(k + above) - np.diag(k[1:], 1) - np.diag(k[1:], -1)
 
 
 def reference_floors(shapes: np.ndarray) -> np.ndarray:

@@ -705,12 +705,14 @@ def _point_mass(building: ShearBuilding | None, floor: int) -> float:
 
 
 def building_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M, C, K of one building in the system's dofs ([u_b, u_1..u_n] when isolated; module docstring).
+    """M, C, K of one building in the system's dofs ([u_b, u_1..u_n] when isolated; module docstring);
+    K includes the P-Δ geometric stiffness of a building with ``p_delta``.
 
     A fixed-base building's own matrices; an isolated one's K_ext = Tᵀ K T (+ W/R at the base for a
     friction pendulum, Zayas et al. 1990), C_ext = Tᵀ C T, M_ext = diag(m_b, m_1..m_n).
     """
-    m, c, k = building.mass_matrix(), building.damping_matrix(), building.stiffness_matrix()
+    m, c = building.mass_matrix(), building.damping_matrix()
+    k = building.stiffness_matrix() + building.geometric_stiffness_matrix()
     base = building.base
     if base is None:
         return m, c, k

@@ -280,3 +280,73 @@ def test_ivp_path_refuses_yielding_stories_before_integrating():
     gm = sine_pulse(amplitude=3.0, period=0.5, duration=1.0, dt=0.01)
     with pytest.raises(PoundingInputError, match="allowed with yielding stories: newmark"):
         simulate(system, gm, method="ivp")
+
+
+def _p_delta_sdof(theta: float, ratio: float = 0.0, yielding: bool = True) -> ShearBuilding:
+    """One story whose stability coefficient P/(k h) is θ (h = 3 m, m = 1e5 kg), F_y = k h / 100."""
+    h = 3.0
+    k = 9.80665 * M / (theta * h)
+    stories = Stories("bilinear", {"yield_drift": 0.01}) if yielding else None
+    return ShearBuilding(
+        "S", [M], [k], [h], damping=RayleighDamping(ratio=ratio), stories=stories, p_delta=True
+    )
+
+
+@pytest.mark.parametrize("theta, r", [(0.05, 0.6), (0.1, 0.5)])
+def test_epp_oscillator_with_p_delta_under_a_step_force_reaches_the_energy_closed_form(theta, r):
+    # work of p0 = strain energy less the gravity work: θ/2 μ² − (1 − r) μ + ½ = 0 (units δ_y)
+    b = _p_delta_sdof(theta)
+    k, fy = b.story_parameters()[0, :2]
+    period = 2.0 * math.pi * math.sqrt(M / k)
+    dt = period / 2000
+    gm = GroundMotion(np.full(round(3 * period / dt), -r * fy / M), dt)
+    ds = simulate(assemble([b]), gm, dt=dt, output_dt=dt)
+    mu = ((1.0 - r) - math.sqrt((1.0 - r) ** 2 - theta)) / theta
+    assert float(ds.story_ductility.sel(building="S", story=1)) == pytest.approx(mu, rel=1e-5)
+    assert np.isnan(ds.collapse_time.sel(building="S"))
+    assert ds.attrs["energy_balance_error"] < 1e-9
+
+
+def test_step_force_beyond_the_p_delta_strength_collapses_and_the_analysis_stops_there():
+    # (1 − r)² < θ: no peak, the strength F_y − θ k δ falls below p0 before the motion turns back
+    b = _p_delta_sdof(0.05)
+    k, fy = b.story_parameters()[0, :2]
+    period = 2.0 * math.pi * math.sqrt(M / k)
+    dt = period / 2000
+    gm = GroundMotion(np.full(round(6 * period / dt), -0.8 * fy / M), dt)
+    ds = simulate(assemble([b]), gm, dt=dt, output_dt=10 * dt)
+    t_c = float(ds.collapse_time.sel(building="S"))
+    assert 0.0 < t_c < 6 * period
+    assert float(ds.peak_drift_ratio.max()) == pytest.approx(0.10, rel=1e-2)
+    after = ds.time > t_c + 10 * dt
+    assert bool(after.any()) and bool(ds.displacement.where(after).isnull().sum())
+    assert bool(np.isnan(ds.displacement.sel(time=ds.time[-1])).all())
+    assert ds.pounding.summary()["buildings"]["S"]["collapse_time"] == pytest.approx(t_c)
+
+
+def test_p_delta_lengthens_the_period_to_t_over_root_of_one_minus_theta():
+    # an elastic story with P-Δ: k_eff = k (1 − θ); free vibration after a short pulse, undamped
+    theta = 0.2
+    b = _p_delta_sdof(theta, yielding=False)
+    period = 2.0 * math.pi * math.sqrt(M / b.stiffnesses[0])
+    dt = period / 1000
+    acc = np.zeros(round(10 * period / dt))
+    acc[1:20] = -1.0
+    ds = simulate(assemble([b]), GroundMotion(acc, dt), dt=dt, output_dt=dt)
+    u = ds.displacement.sel(building="S", floor=1).values
+    t = ds.time.values
+    i = np.flatnonzero((u[:-1] > 0) & (u[1:] <= 0))[2:]  # downward crossings, after the pulse
+    crossing = t[i] + dt * u[i] / (u[i] - u[i + 1])
+    measured = float(np.mean(np.diff(crossing)))
+    assert measured == pytest.approx(period / math.sqrt(1.0 - theta), rel=1e-4)
+    assert b.stability_coefficients()[0] == pytest.approx(theta)
+
+
+def test_p_delta_case_key_and_a_story_unstable_under_gravity():
+    spec = {"name": "A", "masses": [1e5], "stiffnesses": [3e5], "heights": [3.0], "p_delta": True}
+    with pytest.raises(CaseError, match="unstable under its own gravity load"):
+        case_from_dict({"building": [spec], "ground_motion": {"type": "sine_pulse"}})
+    spec["stiffnesses"] = [4e7]
+    case = case_from_dict({"building": [spec], "ground_motion": {"type": "sine_pulse"}})
+    assert case.system.buildings[0].p_delta
+    np.testing.assert_allclose(case.system.stiffness, [[4e7 - 9.80665 * 1e5 / 3.0]])

@@ -55,6 +55,7 @@ from pounding.integrators._layout import (
     N_EN,
     SHORT_STEP,
     SLIVER,
+    STATUS_COLLAPSE,
     STATUS_NO_CONVERGENCE,
     Factor,
     LoopState,
@@ -626,6 +627,8 @@ def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every
             accept(g1, md, x0, tr, gaps, fr, el, out)
             t = t + hs
             ctl[CT_GSTART] = g1
+            if counters[CNT_STATUS] == STATUS_COLLAPSE:
+                return t
         if (k + 1) % out_every == 0:
             store((k + 1) // out_every, t_next, md, x0, gaps, fr, el, en, out)
     return t

@@ -24,7 +24,7 @@ IMP_COLUMNS = IMP_PATH + 2 * PATH_POINTS
 CNT_IMPACTS, CNT_SUBSTEPS, CNT_NEWTON, CNT_LOCATED, CNT_STATUS, CNT_HALVINGS = range(6)
 CNT_FRICTION = 6  # located stick-slip events
 N_COUNTERS = 7
-STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL = 1, 2  # 0: success
+STATUS_NO_CONVERGENCE, STATUS_IMPACT_LOG_FULL, STATUS_COLLAPSE = 1, 2, 3  # 0: success
 #: The dense map is used for the open-gap step while its 3n² products cost less than this many times
 #: the band products 3n(2 bw + 1) (small systems, where loop overhead dominates the band form).
 DENSE_MAP_RATIO = 0.35
@@ -100,9 +100,10 @@ Options = namedtuple(
 )
 #: Output buffers: u, v, a, ground, δ, F, energy, friction force, stick flag, element-family force
 #: per output row; peaks;
-#: the impact log (element, values) and the counters.
+#: the impact log (element, values) and the counters; the drift [m] of each dof's story taken as
+#: collapse (the loop stops there, STATUS_COLLAPSE).
 Output = namedtuple(
     "Output",
     "u v a ag d f e ff st lf peak_u peak_drift peak_aabs peak_f peak_d peak_lf imp_el imp_val "
-    "counters",
+    "counters collapse",
 )

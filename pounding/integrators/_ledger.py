@@ -35,6 +35,7 @@ from pounding.integrators._layout import (
     IMP_STRIDE,
     IMP_V0,
     IMP_VEND,
+    STATUS_COLLAPSE,
     STATUS_IMPACT_LOG_FULL,
 )
 from pounding.integrators._linalg import _band_bilinear, _band_quadratic
@@ -228,6 +229,8 @@ def accept(g1, md, x0, tr, gaps, fr, el, out):
         dr = abs(u[i] - (u[below] if below >= 0 else 0.0))
         if dr > out.peak_drift[i]:
             out.peak_drift[i] = dr
+            if dr > out.collapse[i]:
+                out.counters[CNT_STATUS] = STATUS_COLLAPSE
         aa = abs(a[i] + md.iota[i] * g1)
         if aa > out.peak_aabs[i]:
             out.peak_aabs[i] = aa

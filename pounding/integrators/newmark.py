@@ -259,6 +259,20 @@ def element_families(system: PoundingSystem) -> ElementFamilyRows:
     )
 
 
+def _collapsed(system: PoundingSystem, peak_drift: np.ndarray, limit: float) -> bool:
+    """True when a story's peak drift ratio exceeds ``limit`` (a base slab has no story)."""
+    h = system.story_height
+    story = h > 0.0
+    return bool(np.any(peak_drift[story] > limit * h[story]))
+
+
+def _blank_after(out: kn.Output, output_dt: float, t_end: float) -> None:
+    """NaN in the output rows after ``t_end``, which the analysis did not reach."""
+    rows = np.arange(out.u.shape[0]) * output_dt > t_end + 1e-9 * output_dt
+    for arr in (out.u, out.v, out.a, out.d, out.f, out.e, out.ff, out.st, out.lf):
+        arr[rows] = np.nan
+
+
 def _hysteretic(state: np.ndarray, k: np.ndarray) -> np.ndarray:
     """Hysteretic energy [J] of each story at its committed state: W − F²/(2k)."""
     return state[:, SS_W] - 0.5 * state[:, SS_F] ** 2 / k
@@ -287,13 +301,16 @@ def integrate_newmark(
     adaptive: bool = False,
     steps_per_contact: int = 20,
     impact_capacity: int = 4096,
+    collapse_drift: float = math.inf,
 ) -> RawResult:
     """Integrate ``system`` under ``ground`` from rest with base step ``dt`` [s] for ``n_steps`` steps.
 
     Output every ``output_every`` base steps. With ``adaptive``, steps inside a contact are shortened to
     resolve each impact by ``steps_per_contact`` steps of its own undamped contact duration at its v0
     (see :func:`contact_duration_coefficients`); base steps are taken while every gap is open.
-    Raises :class:`ConvergenceError` when Newton fails even after ``max_halvings`` halvings of the step.
+    The analysis ends when a story's drift ratio passes ``collapse_drift`` (``info["stopped_at"]``,
+    the output rows after it NaN). Raises :class:`ConvergenceError` when Newton fails even after
+    ``max_halvings`` halvings of the step, unless a story is already past ``collapse_drift``.
     """
     sch = get_scheme(scheme)
     if not (dt > 0 and math.isfinite(dt)):
@@ -303,6 +320,10 @@ def integrate_newmark(
     n, n_el, n_fr = system.n_dof, len(el), len(fr)
     n_out = n_steps // output_every + 1
     floor = v0_floor(system, ground)
+    collapse = math.nan
+    # the drift [m] of each dof's story taken as collapse (a base slab has no story: never)
+    h = system.story_height
+    collapse_at = np.where(h > 0.0, collapse_drift * h, np.inf)
     families = element_families(system)
     # the rows of the Woodbury update: gaps, then one per friction element (its base dof, sign +1),
     # then the element families
@@ -335,6 +356,7 @@ def integrate_newmark(
             np.zeros((n_out, n_fr)), np.zeros((n_out, m)), np.zeros(n), np.zeros(n), np.zeros(n),
             np.zeros(n_el), np.zeros(n_el), np.zeros(m), np.zeros(impact_capacity, dtype=np.int64),
             np.zeros((impact_capacity, kn.IMP_COLUMNS)), np.zeros(kn.N_COUNTERS, dtype=np.int64),
+            collapse_at,
         )  # fmt: skip
         elements = families.fresh()
         t_reached = kn.newmark_run(sy, kn.Scheme(sch.gamma, sch.beta, sch.alpha), gaps, friction,
@@ -344,7 +366,14 @@ def integrate_newmark(
         if status == kn.STATUS_IMPACT_LOG_FULL:
             impact_capacity *= 4
             continue
-        if status == kn.STATUS_NO_CONVERGENCE:
+        if status == kn.STATUS_COLLAPSE or (
+            status == kn.STATUS_NO_CONVERGENCE
+            and _collapsed(system, out.peak_drift, collapse_drift)
+        ):
+            # a building past its collapse drift: the analysis ends there, its result stands
+            _blank_after(out, dt * output_every, t_reached)
+            collapse = t_reached
+        elif status == kn.STATUS_NO_CONVERGENCE:
             where = _contacts_at_failure(
                 system, imp_el, imp_val, counters, out.d, t_reached, dt * output_every
             )
@@ -396,5 +425,6 @@ def integrate_newmark(
             "n_friction_events": int(counters[kn.CNT_FRICTION]),
             "adaptive": int(bool(adaptive)),
             "v0_floor": floor,
+            "stopped_at": collapse,
         },
     )
