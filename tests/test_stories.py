@@ -350,3 +350,44 @@ def test_p_delta_case_key_and_a_story_unstable_under_gravity():
     case = case_from_dict({"building": [spec], "ground_motion": {"type": "sine_pulse"}})
     assert case.system.buildings[0].p_delta
     np.testing.assert_allclose(case.system.stiffness, [[4e7 - 9.80665 * 1e5 / 3.0]])
+
+
+def test_a_study_sweeps_a_story_parameter_and_records_hysteresis_and_collapse(tmp_path):
+    from pounding.studies import run_study, study_from_dict
+
+    data = {
+        "building": [
+            {
+                "name": "L",
+                "n_floors": 2,
+                "period": 0.3,
+                "mass": 1e5,
+                "stories": {"model": "bilinear", "yield_drift": 0.002},
+            },
+            {"name": "R", "n_floors": 2, "period": 0.6, "mass": 1e5},
+        ],
+        "contact": [{"left": "L", "right": "R", "gap": 0.01, "law": "hertz", "k": 2e9}],
+        "ground_motion": {
+            "type": "sine_pulse",
+            "amplitude": 0.5,
+            "units": "g",
+            "period": 0.5,
+            "duration": 2.5,
+        },  # fmt: skip
+        "analysis": {"output_dt": 0.01},
+        "study": {"building.0.stories.hardening": [0.0, 0.5]},
+    }
+    ds = run_study(study_from_dict(data), tmp_path / "runs", jobs=1)
+    e_h = ds["hysteretic_energy"].squeeze()
+    assert e_h.dims == ("building.0.stories.hardening",)
+    assert float(e_h.sel({"building.0.stories.hardening": 0.0})) > 0.0
+    # the same run directly
+    data["building"][0]["stories"]["hardening"] = 0.5
+    direct = simulate(case_from_dict({k: v for k, v in data.items() if k != "study"}))
+    got = ds.sel({"building.0.stories.hardening": 0.5}).squeeze()
+    np.testing.assert_allclose(got["peak_drift_ratio"], direct["peak_drift_ratio"], rtol=1e-12)
+    assert float(got["hysteretic_energy"]) == pytest.approx(
+        float(direct.energy.sel(term="hysteretic")[-1]), rel=1e-12
+    )
+    assert ds["collapse_time"].attrs["units"] == "s"
+    assert bool(np.isnan(ds["collapse_time"]).all())

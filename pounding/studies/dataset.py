@@ -71,6 +71,8 @@ SUMMARY: dict[str, tuple[tuple[str, ...], str, str]] = {
     "contact_dissipated_energy": ((), "J", "energy dissipated by the contacts"),
     "energy_balance_error": ((), "1", "energy balance error (fraction of the input energy)"),
     "fundamental_period": (("building",), "s", "fundamental period (contacts open)"),
+    "hysteretic_energy": ((), "J", "energy dissipated by yielding stories (hysteretic)"),
+    "collapse_time": (("building",), "s", ATTRS["collapse_time"]["long_name"]),
 }
 # Peaks whose ratio to the no-contact run is reported: summary name -> (study name, long_name).
 _AMPLIFIED = {
@@ -102,7 +104,8 @@ def run_summary(ds: xr.Dataset) -> xr.Dataset:
     for c in np.unique(imp_contact):
         v_max[c] = np.nanmax(imp_v0[imp_contact == c])
     terms = list(var["term"].values)
-    final = var["energy"].values[-1]
+    energy = var["energy"].values
+    final = energy[np.isfinite(energy).all(axis=1)][-1]  # rows after a collapse are NaN
     values = {
         "peak_displacement": var["peak_displacement"].values,
         "peak_drift_ratio": var["peak_drift_ratio"].values,
@@ -117,6 +120,8 @@ def run_summary(ds: xr.Dataset) -> xr.Dataset:
         "contact_dissipated_energy": final[terms.index("contact_dissipated")],
         "energy_balance_error": float(ds.attrs.get("energy_balance_error", np.nan)),
         "fundamental_period": var["natural_period"].values[:, 0],
+        "hysteretic_energy": final[terms.index("hysteretic")],
+        "collapse_time": var["collapse_time"].values,
     }
     data = {
         name: (
