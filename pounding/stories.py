@@ -25,6 +25,10 @@ elastic   F = k δ                                        (none)
 bilinear  F = min(max(F_n + k Δδ, b k δ − (1 − b) F_y),   yield_drift or yield_force, [1]_, [2]_
           b k δ + (1 − b) F_y); kinematic hardening,     hardening b
           elastic–perfectly plastic at b = 0
+bouc_wen  F = α k δ + (1 − α) F_y ζ,                      yield_drift or yield_force, [4]_, [5]_
+          δ_y dζ/dδ = [A − ν (β sgn(δ̇ ζ) + γ) |ζ|^n]/η    hardening α, n, beta,
+          A = A0 − δ_A ε, ν = 1 + δ_ν ε, η = 1 + δ_η ε    gamma, A, delta_a,
+                                                         delta_nu, delta_eta
 ========= ============================================== ========================== =================
 
 The bilinear update bounds the trial force by the two hardening lines, so it is exact for any
@@ -32,8 +36,17 @@ step (the return map of kinematic hardening; OpenSees ``Steel01`` with a1 = a3 =
 elastic with slope k over an elastic range of 2 F_y, the tangent is k inside it and b k on the
 hardening lines.
 
+The Bouc–Wen variable is normalised, ζ = z/δ_y (δ_y = F_y/k), so β and γ are dimensionless
+(β + γ = 1 with A = 1 bounds |ζ| by 1: the force tends to the yield force F_y on the α-line) and
+the degradation acts on the normalised hysteretic energy ε = (1 − α) ∫ζ dδ/δ_y, the work of the
+hysteretic spring over F_y δ_y. OpenSees ``BoucWen``: alpha = α, ko = k, n, gamma = γ/δ_y^n,
+beta = β/δ_y^n, Ao = A, deltaA = δ_A/(F_y δ_y), deltaNu = δ_ν/(F_y δ_y), deltaEta = δ_η/(F_y δ_y).
+ζ and ε are integrated over each drift increment by classical RK4 in sub-steps of at most
+``BW_STEP`` δ_y (the monotonic closed forms are met to 1e-9).
+
 Recoverable energy of a story is F²/(2k) (unloading at slope k); the rest of ∫F dδ is its
-hysteretic (dissipated) energy E_h = W − F²/(2k), the ledger term ``hysteretic``.
+hysteretic (dissipated) energy E_h = W − F²/(2k), the ledger term ``hysteretic`` (Bouc–Wen:
+α k δ²/2 + (1 − α) F_y δ_y ζ²/2 is recoverable).
 
 Damage: story ductility μ = max|δ|/δ_y, and the Park–Ang index [3]_
 
@@ -51,6 +64,10 @@ References
    ductility, yield strength reduction).
 .. [3] Park, Y.-J., Ang, A.H.-S. (1985). Mechanistic seismic damage model for reinforced concrete.
    J. Struct. Eng. 111(4), 722-740. doi:10.1061/(ASCE)0733-9445(1985)111:4(722)
+.. [4] Wen, Y.-K. (1976). Method for random vibration of hysteretic systems. J. Eng. Mech. Div.
+   102(EM2), 249-263.
+.. [5] Baber, T.T., Noori, M.N. (1985). Random vibration of degrading, pinching systems. J. Eng.
+   Mech. 111(8), 1010-1026. doi:10.1061/(ASCE)0733-9399(1985)111:8(1010)
 """
 
 from __future__ import annotations
@@ -66,11 +83,14 @@ from pounding.errors import PoundingInputError
 
 #: Kind id of the story family in the compiled dispatch (pounding.integrators._dispatch).
 FAMILY_STORY = 1
-#: Columns of a story's state row: spring force F [N] (the force it reports), δ [m], W = ∫F dδ [J].
-SS_F, SS_D, SS_W = 0, 1, 2
-N_STORY_STATE = 3
-#: Parameters per story element: k [N/m], F_y [N], then the model's own.
-N_STORY_PARAMS = 3
+#: Columns of a story's state row: spring force F [N] (the force it reports), δ [m], W = ∫F dδ [J],
+#: the recoverable energy E [J] it holds; then the model's own (Bouc–Wen: ζ, ε).
+SS_F, SS_D, SS_W, SS_E, SS_Z, SS_EPS = 0, 1, 2, 3, 4, 5
+N_STORY_STATE = 6
+#: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 8).
+N_STORY_PARAMS = 10
+#: Largest Bouc–Wen sub-step, as a fraction of δ_y (classical RK4 per sub-step).
+BW_STEP = 0.02
 #: Park–Ang β when ``ultimate_drift`` is given without it (Park & Ang 1985: 0.05-0.15).
 PARK_ANG_BETA = 0.05
 
@@ -92,14 +112,55 @@ def bilinear_story_kernel(d, dd, h, s0, s1, p):
     s1[SS_F] = f
     s1[SS_D] = d
     s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * (d - s0[SS_D])
+    s1[SS_E] = 0.5 * f * f / k
     return f - k * d, kt - k, 0.0
 
 
+def bouc_wen_story_kernel(d, dd, h, s0, s1, p):
+    """Bouc–Wen story [4]_, [5]_: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the drift
+    increment by classical RK4 sub-steps of at most BW_STEP δ_y; tangent α k + (1 − α) k δ_y dζ/dx
+    at the end."""
+    k, fy, alpha, n, beta, gamma = p[0], p[1], p[2], p[3], p[4], p[5]
+    a0, d_a, d_nu, d_eta = p[6], p[7], p[8], p[9]
+    dy = fy / k
+    dx = d - s0[SS_D]
+    sgn = 1.0 if dx >= 0.0 else -1.0
+
+    def slope(z, eps):
+        # δ_y dζ/dx: A = A0 − δ_A ε, ν = 1 + δ_ν ε, η = 1 + δ_η ε; β acts on sgn(δ̇ ζ)
+        psi = gamma + (beta if sgn * z > 0.0 else -beta if sgn * z < 0.0 else 0.0)
+        return ((a0 - d_a * eps) - (1.0 + d_nu * eps) * psi * abs(z) ** n) / (1.0 + d_eta * eps)
+
+    m = max(1, min(int(math.ceil(abs(dx) / (BW_STEP * dy))), 100000))
+    hx = dx / m / dy  # the sub-step in units of δ_y
+    z = s0[SS_Z]
+    eps = s0[SS_EPS]
+    c = 1.0 - alpha  # dε/dx δ_y = (1 − α) ζ
+    for _ in range(m):
+        g1 = slope(z, eps)
+        g2 = slope(z + 0.5 * hx * g1, eps + 0.5 * hx * c * z)
+        z2 = z + 0.5 * hx * g1
+        g3 = slope(z + 0.5 * hx * g2, eps + 0.5 * hx * c * z2)
+        z3 = z + 0.5 * hx * g2
+        g4 = slope(z + hx * g3, eps + hx * c * z3)
+        z4 = z + hx * g3
+        eps += hx * c * (z + 2.0 * z2 + 2.0 * z3 + z4) / 6.0
+        z += hx * (g1 + 2.0 * g2 + 2.0 * g3 + g4) / 6.0
+    g = slope(z, eps)
+    f = alpha * k * d + c * fy * z
+    s1[SS_F] = f
+    s1[SS_D] = d
+    s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
+    s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * dy * z * z
+    s1[SS_Z] = z
+    s1[SS_EPS] = eps
+    return f - k * d, k * (alpha + c * g) - k, 0.0
+
+
 def story_stored(d, f, s, p):
-    """Recoverable energy [J] of a story element beyond the k δ²/2 of the assembled K:
-    F²/(2k) − k δ²/2 (the whole story then holds F²/(2k))."""
-    k = p[0]
-    return 0.5 * s[SS_F] * s[SS_F] / k - 0.5 * k * d * d
+    """Recoverable energy [J] of a story element beyond the k δ²/2 of the assembled K (the whole
+    story then holds the E of its state: F²/(2k) for the bilinear model)."""
+    return s[SS_E] - 0.5 * p[0] * d * d
 
 
 @dataclass(frozen=True)
@@ -137,6 +198,14 @@ _MODELS = (
                "F_n + k Δδ bounded by b k δ ± (1 − b) F_y",
                "Chopra 2017, Dynamics of Structures, Ch. 7; Filippou et al. 1983 (Steel01)",
                "Steel01 Fy E0 b (a1..a4 = 0)"),
+    StoryModel("bouc_wen", 2, bouc_wen_story_kernel,
+               (("hardening", "", 0.0, 0.0, 1.0), ("n", "", 2.0, 0.1, 50.0),
+                ("beta", "", 0.5, -10.0, 10.0), ("gamma", "", 0.5, -10.0, 10.0),
+                ("A", "", 1.0, 0.0, 10.0), ("delta_a", "", 0.0, 0.0, 10.0),
+                ("delta_nu", "", 0.0, 0.0, 10.0), ("delta_eta", "", 0.0, 0.0, 10.0)),
+               "F = α k δ + (1 − α) F_y ζ, δ_y ζ' = [A − ν (β sgn(δ̇ ζ) + γ) |ζ|^n]/η",
+               "Wen 1976; Baber & Noori 1985 (degradation)",
+               "BoucWen alpha=α ko=k n gamma=γ/δ_y^n beta=β/δ_y^n Ao=A (deltas: see docs)"),
 )  # fmt: skip
 
 #: Story models by name.
@@ -245,6 +314,11 @@ class Stories:
         for j, (key, unit, default, low, high) in enumerate(model.parameters):
             rows[:, 2 + j] = _per_story(
                 p.get(key, default), n, f"{where}.stories.{key}", unit, low, high
+            )
+        if self.model == "bouc_wen" and np.any(rows[:, 4] + rows[:, 5] <= 0.0):
+            raise PoundingInputError(
+                f"{where}.stories: beta + gamma = {float(np.min(rows[:, 4] + rows[:, 5])):g}; "
+                "allowed: beta + gamma > 0 (a bounded ζ; 1 with A = 1 gives the yield force)"
             )
         return rows
 

@@ -145,6 +145,7 @@ _kelvin_link_stored = jit(_links.kelvin_link_stored)
 _viscous_link_stored = jit(_links.viscous_link_stored)
 _maxwell_link_stored = jit(_links.maxwell_link_stored)
 _bilinear_story = jit(_stories.bilinear_story_kernel)
+_bouc_wen_story = jit(_stories.bouc_wen_story_kernel)
 _story_stored = jit(_stories.story_stored)
 
 FAMILY_LINK = _links.FAMILY_LINK
@@ -157,7 +158,9 @@ def element_eval(kind, law, d, dd, h, s0, s1, p):
     with law id ``law`` at the end of a step of length h; writes its trial state s1 from the
     committed s0."""
     if kind == FAMILY_STORY:
-        return _bilinear_story(d, dd, h, s0, s1, p)
+        if law == 1:
+            return _bilinear_story(d, dd, h, s0, s1, p)
+        return _bouc_wen_story(d, dd, h, s0, s1, p)
     if law == 0:
         return _kelvin_link(d, dd, h, s0, s1, p)
     if law == 1:

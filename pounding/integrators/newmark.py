@@ -63,7 +63,7 @@ from pounding.integrators.base import (
     v0_floor,
 )
 from pounding.links import FAMILY_LINK, N_LINK_PARAMS, N_LINK_STATE
-from pounding.stories import FAMILY_STORY, N_STORY_PARAMS, N_STORY_STATE, SS_F, SS_W
+from pounding.stories import FAMILY_STORY, N_STORY_PARAMS, N_STORY_STATE, SS_E, SS_W
 from pounding.system import PoundingSystem
 
 #: Newton iterations per step and step halvings allowed by default.
@@ -273,9 +273,9 @@ def _blank_after(out: kn.Output, output_dt: float, t_end: float) -> None:
         arr[rows] = np.nan
 
 
-def _hysteretic(state: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """Hysteretic energy [J] of each story at its committed state: W − F²/(2k)."""
-    return state[:, SS_W] - 0.5 * state[:, SS_F] ** 2 / k
+def _hysteretic(state: np.ndarray) -> np.ndarray:
+    """Hysteretic energy [J] of each story at its committed state: W less the recoverable E."""
+    return state[:, SS_W] - state[:, SS_E]
 
 
 def impact_paths(imp_val: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -410,7 +410,7 @@ def integrate_newmark(
         peak_link_force=out.peak_lf[:n_links],
         story_force=out.lf[:, n_links:],
         peak_story_force=out.peak_lf[n_links:],
-        story_hysteretic=_hysteretic(elements.state[n_links:], system.stories.params[:, 0]),
+        story_hysteretic=_hysteretic(elements.state[n_links:]),
         info={
             "integrator": sch.name,
             "gamma": sch.gamma,
