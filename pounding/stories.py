@@ -18,18 +18,18 @@ with ``d`` = δ [m] at the end of the step, ``s0`` the committed state row (read
 trial state row (written: the spring force F, δ and the work W = ∫F dδ [J], trapezoidal per step),
 ``p`` = (k [N/m], F_y [N], model parameters...).
 
-========= ============================================== ========================== =================
-model     force                                          parameters                 reference
-========= ============================================== ========================== =================
-elastic   F = k δ                                        (none)
-bilinear  F = min(max(F_n + k Δδ, b k δ − (1 − b) F_y),   yield_drift or yield_force, [1]_, [2]_
-          b k δ + (1 − b) F_y); kinematic hardening,     hardening b
-          elastic–perfectly plastic at b = 0
-bouc_wen  F = α k δ + (1 − α) F_y ζ,                      yield_drift or yield_force, [4]_, [5]_
-          δ_y dζ/dδ = [A − ν (β sgn(δ̇ ζ) + γ) |ζ|^n]/η    hardening α, n, beta,
-          A = A0 − δ_A ε, ν = 1 + δ_ν ε, η = 1 + δ_η ε    gamma, A, delta_a,
-                                                         delta_nu, delta_eta
-========= ============================================== ========================== =================
+Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) or ``yield_force``
+(F_y [N]):
+
+``elastic``
+    F = k δ (no parameters).
+``bilinear`` [1]_, [2]_
+    F = min(max(F_n + k Δδ, b k δ − (1 − b) F_y), b k δ + (1 − b) F_y): kinematic hardening,
+    elastic–perfectly plastic at b = 0; ``hardening`` b.
+``bouc_wen`` [4]_, [5]_
+    F = α k δ + (1 − α) F_y ζ with δ_y dζ/dδ = [A − ν (β sgn(δ̇ ζ) + γ) abs(ζ)^n]/η,
+    A(ε) = A − δ_A ε, ν = 1 + δ_ν ε, η = 1 + δ_η ε; ``hardening`` α, ``n``, ``beta``, ``gamma``,
+    ``A``, ``delta_a``, ``delta_nu``, ``delta_eta``.
 
 The bilinear update bounds the trial force by the two hardening lines, so it is exact for any
 step (the return map of kinematic hardening; OpenSees ``Steel01`` with a1 = a3 = 0): unloading is
@@ -37,7 +37,7 @@ elastic with slope k over an elastic range of 2 F_y, the tangent is k inside it 
 hardening lines.
 
 The Bouc–Wen variable is normalised, ζ = z/δ_y (δ_y = F_y/k), so β and γ are dimensionless
-(β + γ = 1 with A = 1 bounds |ζ| by 1: the force tends to the yield force F_y on the α-line) and
+(β + γ = 1 with A = 1 bounds abs(ζ) by 1: the force tends to the yield force F_y on the α-line) and
 the degradation acts on the normalised hysteretic energy ε = (1 − α) ∫ζ dδ/δ_y, the work of the
 hysteretic spring over F_y δ_y. OpenSees ``BoucWen``: alpha = α, ko = k, n, gamma = γ/δ_y^n,
 beta = β/δ_y^n, Ao = A, deltaA = δ_A/(F_y δ_y), deltaNu = δ_ν/(F_y δ_y), deltaEta = δ_η/(F_y δ_y).
