@@ -7,7 +7,9 @@ benchmark record at dt = 1e-4 s, timed as the median of ``--repeats`` calls of
 * ``elastic``: the stories of :mod:`benchmarks.models`;
 * ``bilinear``: every story of both buildings bilinear, yield drift 0.5 % of the height, hardening 3 %
   (the 3-story building yields under this record, the 8-story one does not);
-* ``bilinear, low yield``: yield drift 0.2 %, so both buildings yield.
+* ``bilinear, low yield``: yield drift 0.2 %, so both buildings yield;
+* ``bouc_wen``: Bouc–Wen stories (n = 2, β = γ = 0.5, 3 % hardening), yield drift 0.5 %: smooth,
+  so no step is linear (Newton in every step).
 
     python benchmarks/yielding_cost.py [--repeats 5] [--quick]
 """
@@ -31,8 +33,8 @@ from pounding import Stories, assemble  # noqa: E402
 from pounding.simulate import AnalysisOptions, run  # noqa: E402
 
 
-def _yielding(system, yield_drift: float):
-    stories = Stories("bilinear", {"yield_drift": yield_drift, "hardening": 0.03})
+def _yielding(system, yield_drift: float, model: str = "bilinear"):
+    stories = Stories(model, {"yield_drift": yield_drift, "hardening": 0.03})
     buildings = [dataclasses.replace(b, stories=stories) for b in system.buildings]
     return assemble(buildings, system.contacts)
 
@@ -63,6 +65,7 @@ def main(argv: list[str] | None = None) -> int:
         ("elastic", base),
         ("bilinear", _yielding(base, 0.005)),
         ("bilinear, low yield", _yielding(base, 0.002)),
+        ("bouc_wen", _yielding(base, 0.005, "bouc_wen")),
     ):
         seconds, info, raw = _timed(system, gm, opts, repeats)
         ductility = (

@@ -381,7 +381,12 @@ def result_variables(
             "base_shear": (("time", "building"), shear[:, :, 0]),
             "collapse_time": (
                 ("building",),
-                _collapse_times(raw, drift / heights, per_building(raw.peak_drift) / heights),
+                _collapse_times(
+                    raw,
+                    drift / heights,
+                    per_building(raw.peak_drift) / heights,
+                    np.array([b.stories.yielding or b.p_delta for b in bl]),
+                ),
             ),
             "residual_drift": (("building", "story"), drift[-1]),
             "residual_drift_ratio": (("building", "story"), drift[-1] / heights),
@@ -639,17 +644,20 @@ def _isolation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tu
     return out
 
 
-def _collapse_times(raw: RawResult, ratio: np.ndarray, peak_ratio: np.ndarray) -> np.ndarray:
-    """Per building, the first output time a story drift ratio exceeds the run's collapse drift,
-    or the time an analysis stopped past it (NaN: no collapse)."""
+def _collapse_times(
+    raw: RawResult, ratio: np.ndarray, peak_ratio: np.ndarray, can: np.ndarray
+) -> np.ndarray:
+    """Per building that can collapse (``can``: yielding stories or P-Δ), the first output time a
+    story drift ratio exceeds the run's collapse drift, or the time an analysis stopped past it
+    (NaN: no collapse)."""
     limit = float(raw.info.get("collapse_drift", np.inf))
     with np.errstate(invalid="ignore"):
         beyond = np.abs(np.nan_to_num(ratio, nan=0.0)) > limit  # (time, building, story)
-    hit = beyond.any(axis=2)
+    hit = beyond.any(axis=2) & can
     out = np.where(hit.any(axis=0), raw.time[np.argmax(hit, axis=0)], np.nan)
     stopped = float(raw.info.get("stopped_at", np.nan))
     if math.isfinite(stopped):
-        past = np.nan_to_num(peak_ratio, nan=0.0).max(axis=1) > limit
+        past = (np.nan_to_num(peak_ratio, nan=0.0).max(axis=1) > limit) & can
         out = np.where(np.isnan(out) & past, stopped, out)
     return out
 
@@ -674,7 +682,9 @@ def _story_variables(
     spring[:, b_i, s_i] = raw.story_force
     peak_spring[b_i, s_i] = raw.peak_story_force
     fy[b_i, s_i] = st.params[:, 1]
-    e_h[b_i, s_i] = raw.story_hysteretic
+    # W − E of a story that stayed elastic is round-off of its work: below 1e-9 F_y δ_y it is 0
+    tiny = 1e-9 * st.params[:, 1] ** 2 / st.params[:, 0]
+    e_h[b_i, s_i] = np.where(np.abs(raw.story_hysteretic) < tiny, 0.0, raw.story_hysteretic)
     ultimate[b_i, s_i] = st.ultimate
     beta[b_i, s_i] = st.park_ang_beta
     yield_drift = fy / k

@@ -609,6 +609,51 @@ def bearing_hysteresis(ds: xr.Dataset) -> Figure:
     return fig
 
 
+def yielding_buildings(ds: xr.Dataset) -> list[str]:
+    """Names of the buildings with a hysteretic story model (none without ``story_model``)."""
+    if "story_model" not in ds:
+        return []
+    models = ds["story_model"]
+    return [
+        str(b)
+        for b in ds["building"].values
+        if any(m not in ("", "elastic") for m in models.sel(building=b).values)
+    ]
+
+
+def story_hysteresis(ds: xr.Dataset, n_stories: int = 3) -> Figure:
+    """Story hysteresis loops: spring (restoring) force against drift of the ``n_stories`` most
+    ductile stories of each building with yielding stories, one panel per building. The legend
+    gives each story's peak ductility μ and its hysteretic energy E_h."""
+    names = yielding_buildings(ds)
+    fig, axes = _figure(3.4, ncols=max(1, len(names)))
+    for ax, name in zip(axes[0], names, strict=False):
+        sel = ds.sel(building=name)
+        mu = sel["story_ductility"].values
+        order = [
+            int(i) for i in np.argsort(np.nan_to_num(mu, nan=-1.0))[::-1] if np.isfinite(mu[i])
+        ]
+        for j, i in enumerate(order[:n_stories]):
+            story = int(sel["story"].values[i])
+            x = sel["drift"].isel(story=i).values * 1e3
+            f = sel["story_spring_force"].isel(story=i).values / 1e3
+            e_h = float(sel["hysteretic_energy"].isel(story=i)) / 1e3
+            ax.plot(x, f, lw=0.7, color=f"C{j}",
+                    label=f"story {story}: μ = {mu[i]:.3g}, E_h = {e_h:.3g} kJ")  # fmt: skip
+        fy = float(np.nanmax(sel["yield_force"].values)) / 1e3
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.axvline(0.0, color="0.6", lw=0.6)
+        collapse = float(sel["collapse_time"]) if "collapse_time" in ds else math.nan
+        extra = f", collapse at {collapse:.3g} s" if math.isfinite(collapse) else ""
+        model = str(sel["story_model"].values[0])
+        ax.set_title(f"{name}: {model} stories (F_y up to {fy:.4g} kN){extra}", fontsize="small")
+        ax.set_xlabel("drift [mm]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize="x-small", loc="upper left")
+    axes[0, 0].set_ylabel("story spring force [kN]")
+    return fig
+
+
 # --------------------------------------------------------------------------------------------------
 # Studies
 # --------------------------------------------------------------------------------------------------

@@ -68,7 +68,8 @@ STEPS_PER_CONTACT = 160
 #: building (the ``[output] drift_limit`` of a case file).
 DRIFT_LIMIT = 0.02
 
-#: Story drift ratio beyond which a building counts as collapsed (sidesway): the run records the
+#: Story drift ratio beyond which a building with yielding stories or P-Δ counts as collapsed
+#: (sidesway; an elastic story has no strength to lose): the run records the
 #: time (``collapse_time``), and Newton's failure past it ends the analysis instead of an error.
 #: 10 % is the usual non-simulated limit of IDA studies (e.g. FEMA P695 archetypes; Vamvatsikos &
 #: Cornell 2002 use the flattening of the IDA curve, which this bounds).
@@ -226,8 +227,8 @@ ANALYSIS_KEYS = (
     Key(
         "collapse_drift",
         "number",
-        f"story drift ratio taken as collapse (default {COLLAPSE_DRIFT}): its time is recorded, and "
-        "a failure to converge beyond it ends the analysis instead of an error",
+        f"story drift ratio taken as collapse of a building with yielding stories or P-Δ (default "
+        f"{COLLAPSE_DRIFT}): the analysis stops there and records the time",
         "",
         0.0,
         10.0,

@@ -592,3 +592,27 @@ def test_pdf_figures_sit_with_their_captions_two_to_a_page(analysis_report):
         # each figure's caption is on its page, at full resolution
         assert len(re.findall(r"Figure \d+\.\d+:", text)) == count, page
     assert re.search(r"\s(1[5-9]\d|2\d\d)\s+(1[5-9]\d|2\d\d)\s", images)  # x-ppi, y-ppi ~200
+
+
+def test_yielding_analysis_report_has_the_story_section_with_its_numbers():
+    # issue 15 item 4: ductility, residual drift, hysteretic energy and damage per story, and the
+    # hysteresis loops of the most ductile stories
+    from pathlib import Path
+
+    from pounding.case import load_case
+    from pounding.report import build_report, render_html
+    from pounding.simulate import simulate
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "three_vs_eight_yielding.toml"
+    ds = simulate(load_case(example))
+    report = build_report(ds)
+    titles = [s.title for s in report.sections]
+    section = report.sections[titles.index("Yielding stories")]
+    table = next(b for b in section.blocks if type(b).__name__ == "Table")
+    assert table.header[:6] == ["building", "story", "model", "F_y [kN]", "δ_y [mm]",
+                                "peak ductility"]  # fmt: skip
+    assert [r[0] for r in table.rows] == ["A", "A", "A"]
+    mu = float(ds.story_ductility.sel(building="A", story=1))
+    assert table.rows[0][5] == f"{mu:.3g}"
+    assert sum(type(b).__name__ == "Plot" for b in section.blocks) == 1
+    assert "Yielding stories" in render_html(report)

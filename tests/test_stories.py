@@ -389,7 +389,7 @@ def test_a_study_sweeps_a_story_parameter_and_records_hysteresis_and_collapse(tm
         "study": {"building.0.stories.hardening": [0.0, 0.5]},
     }
     ds = run_study(study_from_dict(data), tmp_path / "runs", jobs=1)
-    e_h = ds["hysteretic_energy"].squeeze()
+    e_h = ds["hysteretic_dissipated_energy"].squeeze()
     assert e_h.dims == ("building.0.stories.hardening",)
     assert float(e_h.sel({"building.0.stories.hardening": 0.0})) > 0.0
     # the same run directly
@@ -397,7 +397,7 @@ def test_a_study_sweeps_a_story_parameter_and_records_hysteresis_and_collapse(tm
     direct = simulate(case_from_dict({k: v for k, v in data.items() if k != "study"}))
     got = ds.sel({"building.0.stories.hardening": 0.5}).squeeze()
     np.testing.assert_allclose(got["peak_drift_ratio"], direct["peak_drift_ratio"], rtol=1e-12)
-    assert float(got["hysteretic_energy"]) == pytest.approx(
+    assert float(got["hysteretic_dissipated_energy"]) == pytest.approx(
         float(direct.energy.sel(term="hysteretic")[-1]), rel=1e-12
     )
     assert ds["collapse_time"].attrs["units"] == "s"

@@ -259,11 +259,23 @@ def element_families(system: PoundingSystem) -> ElementFamilyRows:
     )
 
 
-def _collapsed(system: PoundingSystem, peak_drift: np.ndarray, limit: float) -> bool:
-    """True when a story's peak drift ratio exceeds ``limit`` (a base slab has no story)."""
+def collapse_drifts(system: PoundingSystem, limit: float) -> np.ndarray:
+    """The drift [m] of each dof's story taken as collapse: ``limit`` × height in the buildings
+    that can collapse (yielding stories or P-Δ), inf elsewhere (an elastic story has no strength
+    to lose; its drift beyond the ``drift_limit`` is a warning) and at a base slab."""
     h = system.story_height
-    story = h > 0.0
-    return bool(np.any(peak_drift[story] > limit * h[story]))
+    can = np.concatenate(
+        [
+            np.full(b.n_floors + (1 if b.isolated else 0), b.stories.yielding or b.p_delta)
+            for b in system.buildings
+        ]
+    )
+    return np.where(can & (h > 0.0), limit * h, np.inf)
+
+
+def _collapsed(system: PoundingSystem, peak_drift: np.ndarray, limit: float) -> bool:
+    """True when a story that can collapse has a peak drift beyond ``limit`` × its height."""
+    return bool(np.any(peak_drift > collapse_drifts(system, limit)))
 
 
 def _blank_after(out: kn.Output, output_dt: float, t_end: float) -> None:
@@ -321,9 +333,7 @@ def integrate_newmark(
     n_out = n_steps // output_every + 1
     floor = v0_floor(system, ground)
     collapse = math.nan
-    # the drift [m] of each dof's story taken as collapse (a base slab has no story: never)
-    h = system.story_height
-    collapse_at = np.where(h > 0.0, collapse_drift * h, np.inf)
+    collapse_at = collapse_drifts(system, collapse_drift)
     families = element_families(system)
     # the rows of the Woodbury update: gaps, then one per friction element (its base dof, sign +1),
     # then the element families

@@ -329,6 +329,59 @@ def _isolation_section(ds: xr.Dataset) -> Section | None:
     return iso
 
 
+def _stories_section(ds: xr.Dataset) -> Section | None:
+    """Ductility, residual drift, hysteretic energy and damage of every yielding story, and the
+    loops of the most ductile ones."""
+    names = plots.yielding_buildings(ds)
+    if not names:
+        return None
+    sec = Section("Yielding stories")
+    rows = []
+    damage = "park_ang_damage" in ds
+    for name in names:
+        sel = ds.sel(building=name)
+        for i, model in enumerate(sel["story_model"].values):
+            if str(model) in ("", "elastic"):
+                continue
+            row = [
+                name,
+                str(int(sel["story"].values[i])),
+                str(model),
+                _g(float(sel["yield_force"].values[i]) / 1e3),
+                _g(float(sel["yield_drift"].values[i]) * 1e3),
+                _fmt(float(sel["story_ductility"].values[i]), 3),
+                _fmt(float(sel["residual_drift_ratio"].values[i]), 3),
+                _g(float(sel["hysteretic_energy"].values[i]) / 1e3),
+            ]
+            if damage:
+                row.append(_fmt(float(sel["park_ang_damage"].values[i]), 3))
+            rows.append(row)
+    header = ["building", "story", "model", "F_y [kN]", "δ_y [mm]", "peak ductility",
+              "residual drift ratio", "hysteretic energy [kJ]"]  # fmt: skip
+    if damage:
+        header.append("Park-Ang damage")
+    total = float(ds["energy"].sel(term="hysteretic").dropna("time")[-1])
+    inp = float(ds["energy"].sel(term="input").dropna("time")[-1])
+    share = f"{100 * total / inp:.3g} %" if inp > 0 else "n/a"
+    sec.blocks.append(
+        Table(
+            header,
+            rows,
+            "Peak ductility = peak drift / yield drift; residual drift at the end of the analysis "
+            f"(extend the duration for a free-vibration tail). The stories dissipated {share} of "
+            "the input energy.",
+        )
+    )
+    sec.blocks.append(
+        Plot(
+            plots.story_hysteresis(ds),
+            "Story hysteresis loops: spring (restoring) force, without damping, against drift, for "
+            "the most ductile stories.",
+        )
+    )
+    return sec
+
+
 def analysis_report(ds: xr.Dataset, store: Path | None = None) -> Report:
     """The report of an analysis (from :func:`pounding.simulate`); ``store`` is not used."""
     contacts = _contacts_table(ds) if ds.sizes.get("contact", 0) else None
@@ -344,9 +397,9 @@ def analysis_report(ds: xr.Dataset, store: Path | None = None) -> Report:
         _ground_motion_section(ds, study=False),
         _results_section(ds, contacts),
     ]
-    iso = _isolation_section(ds)
-    if iso is not None:
-        sections.append(iso)
+    for extra in (_stories_section(ds), _isolation_section(ds)):
+        if extra is not None:
+            sections.append(extra)
     meta = [
         ("record", str(ds.attrs.get("record", ""))),
         ("method", str(ds.attrs.get("method", ""))),

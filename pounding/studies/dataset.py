@@ -71,7 +71,7 @@ SUMMARY: dict[str, tuple[tuple[str, ...], str, str]] = {
     "contact_dissipated_energy": ((), "J", "energy dissipated by the contacts"),
     "energy_balance_error": ((), "1", "energy balance error (fraction of the input energy)"),
     "fundamental_period": (("building",), "s", "fundamental period (contacts open)"),
-    "hysteretic_energy": ((), "J", "energy dissipated by yielding stories (hysteretic)"),
+    "hysteretic_dissipated_energy": ((), "J", "energy dissipated by the yielding stories"),
     "collapse_time": (("building",), "s", ATTRS["collapse_time"]["long_name"]),
 }
 # Peaks whose ratio to the no-contact run is reported: summary name -> (study name, long_name).
@@ -120,7 +120,7 @@ def run_summary(ds: xr.Dataset) -> xr.Dataset:
         "contact_dissipated_energy": final[terms.index("contact_dissipated")],
         "energy_balance_error": float(ds.attrs.get("energy_balance_error", np.nan)),
         "fundamental_period": var["natural_period"].values[:, 0],
-        "hysteretic_energy": final[terms.index("hysteretic")],
+        "hysteretic_dissipated_energy": final[terms.index("hysteretic")],
         "collapse_time": var["collapse_time"].values,
     }
     data = {
