@@ -191,6 +191,41 @@ def row_stiffness(cf, tr, fr, el, kc):
 
 
 @jit_internal
+def in_band(el, bw):
+    """True when an element family row lies within the band of K (both dofs at most bw apart,
+    or one at the ground): a yielding story, whose tangent is cheaper in the band factor than as
+    a Woodbury row."""
+    for e in range(el.kind.size):
+        a = el.dof[e, 0]
+        b = el.dof[e, 1]
+        if a < 0 or b < 0 or abs(a - b) <= bw:
+            return True
+    return False
+
+
+@jit_internal
+def band_rows_into(el, first, kc, bw, Jb):
+    """Move the stiffness kc of the family rows within the band (rows ``first``…) into the band
+    tangent Jb and zero it among the Woodbury rows."""
+    for e in range(el.kind.size):
+        c = first + e
+        k = kc[c]
+        a = el.dof[e, 0]
+        b = el.dof[e, 1]
+        if k == 0.0 or (a >= 0 and b >= 0 and abs(a - b) > bw):
+            continue
+        for s in range(2):
+            i = el.dof[e, s]
+            if i < 0:
+                continue
+            for r in range(2):
+                j = el.dof[e, r]
+                if j >= 0:
+                    Jb[i, j - i + bw] += k * el.sign[e, s] * el.sign[e, r]
+        kc[c] = 0.0
+
+
+@jit_internal
 def add_row_tangent(x_dof, x_sign, kc, J):
     """J += Σ kc_c b_c b_cᵀ over the finite rows (a stuck slab's infinite row is a constraint)."""
     for c in range(kc.size):

@@ -26,11 +26,13 @@ from pounding.integrators._families import (
     add_forces,
     add_friction,
     add_row_tangent,
+    band_rows_into,
     eval_elements,
     eval_friction,
     eval_gaps,
     gap_force,
     gap_openings,
+    in_band,
     row_stiffness,
 )
 from pounding.integrators._layout import FS_DIR, FS_F0, FS_F1, FS_STUCK
@@ -392,9 +394,12 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
     alpha = cf.alpha
     g_eff = w * ground_at(md.ag, md.ag_dt, t + hs) - alpha * ground_at(md.ag, md.ag_dt, t)
     known = abs(hs - fac.h[0]) <= 1e-8 * fac.h[0]
+    # family rows within the band (yielding stories) join the band tangent, refactored at every
+    # iteration (O(n bw²)); the Woodbury update keeps only the rows outside it
+    own = in_band(el, md.bw)
     # another step length: factor its band tangent once (O(n bw²)); each iteration then solves by
     # band solves and the Woodbury update, O(n bw (1 + m)), not the dense O(n³) elimination
-    banded = not known and not md.dense
+    banded = not known and not md.dense and not own
     if banded:
         tangent_band_into(hs, md.Mb, md.Cb, md.Kb, sch, wk.Jb)
         band_ldl_into(wk.Jb, md.bw, wk.Lw, wk.Dw)
@@ -443,7 +448,17 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
         add_friction(R, w, fr, FS_F1, True)
         row_stiffness(cf, tr, fr, el, kc)
         solved = False
-        if known:
+        if own:
+            tangent_band_into(hs, md.Mb, md.Cb, md.Kb, sch, wk.Jb)
+            band_rows_into(el, n_el + n_fr, kc, md.bw, wk.Jb)
+            band_ldl_into(wk.Jb, md.bw, wk.Lw, wk.Dw)
+            for c in range(n_x):
+                wk.have[c] = False
+            solved = woodbury_band_solve(wk.Lw, wk.Dw, md.bw, R, md.x_dof, md.x_sign, kc, wk.Z,
+                                         wk.have, wk.S, y, step, wk.e)  # fmt: skip
+            if not solved:
+                row_stiffness(cf, tr, fr, el, kc)  # every row back for the dense fallback
+        elif known:
             solved = _woodbury_solve(fac.J_inv, fac.L, fac.D, md.bw, md.dense, R, md.x_dof,
                                      md.x_sign, kc, wk.Z, wk.S, y, step)  # fmt: skip
         elif banded:
