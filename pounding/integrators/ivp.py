@@ -268,6 +268,62 @@ def _validate(
 # --------------------------------------------------------------------------------------------------
 
 
+@jit
+def _story_rhs(y, dy, n, i0, dof, sign, params, minv):
+    """Bouc–Wen stories (pounding.stories, normalised ζ = z/δ_y and ε as states from index i0):
+    dy[n:2n] −= M⁻¹ Bᵀ (F − k δ) (K holds k δ) and the rates ζ̇ = δ̇/δ_y g, ε̇ = (1 − α) δ̇ ζ/δ_y."""
+    ns = dof.shape[0]
+    for e in range(ns):
+        d = 0.0
+        dd = 0.0
+        for s in range(2):
+            i = dof[e, s]
+            if i >= 0:
+                d += sign[e, s] * y[i]
+                dd += sign[e, s] * y[n + i]
+        k, fy, al, nn, be, ga = (
+            params[e, 0],
+            params[e, 1],
+            params[e, 2],
+            params[e, 3],
+            params[e, 4],
+            params[e, 5],
+        )
+        a0, d_a, d_nu, d_eta = params[e, 6], params[e, 7], params[e, 8], params[e, 9]
+        dy_ = fy / k
+        z = y[i0 + e]
+        eps = y[i0 + ns + e]
+        corr = al * k * d + (1.0 - al) * fy * z - k * d
+        for s in range(2):
+            i = dof[e, s]
+            if i >= 0:
+                dy[n + i] -= minv[i] * sign[e, s] * corr
+        sz = dd * z
+        psi = ga + (be if sz > 0.0 else -be if sz < 0.0 else 0.0)
+        g = ((a0 - d_a * eps) - (1.0 + d_nu * eps) * psi * abs(z) ** nn) / (1.0 + d_eta * eps)
+        dy[i0 + e] = dd / dy_ * g
+        dy[i0 + ns + e] = (1.0 - al) * dd * z / dy_
+
+
+def _story_values(u: np.ndarray, ys: np.ndarray, st) -> tuple[np.ndarray, ...]:
+    """(F, F − k δ, recoverable energy beyond k δ²/2, hysteretic energy) of every Bouc–Wen story at
+    displacements u (samples × n) and story states ys (samples × 2 ns)."""
+    ns = len(st)
+    p = st.params
+    k, fy, al = p[:, 0], p[:, 1], p[:, 2]
+    d = np.zeros((u.shape[0], ns))
+    for s in range(2):
+        dof = st.dof[:, s]
+        hit = dof >= 0
+        d[:, hit] += st.sign[hit, s] * u[:, dof[hit]]
+    z, eps = ys[:, :ns], ys[:, ns:]
+    dy_ = fy / k
+    f = al * k * d + (1.0 - al) * fy * z
+    stored = 0.5 * al * k * d * d + 0.5 * (1.0 - al) * fy * dy_ * z * z
+    e_h = eps * fy * dy_ - 0.5 * (1.0 - al) * fy * dy_ * z * z
+    return f, f - k * d, stored - 0.5 * k * d * d, e_h
+
+
 class _Model:
     """State layout, right-hand side and derived quantities of a system (one object per run)."""
 
@@ -328,6 +384,12 @@ class _Model:
         # W_f only with friction elements (a state more changes the error norm of every run)
         self.i_in, self.i_damp, self.i_work, self.i_fric = 2 * n + nb + ne + nz + np.arange(4)
         self.size = 2 * n + nb + ne + nz + (4 if nf else 3)
+        # Bouc–Wen stories: ζ and ε of each, after everything else
+        self.stories = st = system.stories
+        self.ns = ns = len(st)
+        self.ist = slice(self.size, self.size + 2 * ns)
+        self.size += 2 * ns
+        self.st_minv = 1.0 / np.diag(self.mass)
         # history variables (per contact phase)
         self.v0 = np.zeros(ne)
         self.d_tol = 0.0  # [m], set by tolerances()
@@ -356,6 +418,9 @@ class _Model:
             self.fr_dof, self.fr_kind, self.fr_law, self.fr_params, self.fr_bw, self.fr_normal,
             self.fr_minv, self.fr_stuck, self.fr_dir, self.fr_bwi, self._fr_ws,
         )  # fmt: skip
+        if self.ns:
+            st = self.stories
+            _story_rhs(y, dy, self.n, self.ist.start, st.dof, st.sign, st.params, self.st_minv)
         return dy
 
     def friction_now(self, t: float, y: np.ndarray) -> np.ndarray:
@@ -417,12 +482,26 @@ class _Model:
                     acc[:, b] = 0.0
                 else:
                     acc[:, b] -= self.fr_minv[k] * friction[:, k]
+        story_force = np.zeros((t.size, self.ns))
+        strain_extra = np.zeros(t.size)
+        hysteretic = np.zeros(t.size)
+        if self.ns:
+            st = self.stories
+            story_force, corr, extra, e_h = _story_values(u, y[self.ist].T, st)
+            for s in range(2):
+                dof = st.dof[:, s]
+                hit = dof >= 0
+                np.add.at(
+                    acc.T, dof[hit], -(st.sign[hit, s] * corr[:, hit] * self.st_minv[dof[hit]]).T
+                )
+            strain_extra = extra.sum(axis=1)
+            hysteretic = e_h.sum(axis=1)
         stored_sum = stored.sum(axis=1)
         energy = np.column_stack(
             (
                 y[self.i_in],
                 0.5 * np.einsum("ti,ij,tj->t", v, self.mass, v),
-                0.5 * np.einsum("ti,ij,tj->t", u, self.stiffness, u),
+                0.5 * np.einsum("ti,ij,tj->t", u, self.stiffness, u) + strain_extra,
                 y[self.i_damp],
                 y[self.i_work] - stored_sum,
                 stored_sum,
@@ -430,7 +509,7 @@ class _Model:
                 np.zeros(t.size),  # algorithmic: none, the integration error is controlled instead
                 np.zeros(t.size),  # link_dissipated, link_stored: no links on this path
                 np.zeros(t.size),
-                np.zeros(t.size),  # hysteretic: no yielding stories on this path
+                hysteretic,
             )
         )
         below = np.where(self.below >= 0, u[:, np.maximum(self.below, 0)], 0.0)
@@ -447,6 +526,8 @@ class _Model:
             ag=ag,
             friction=friction,
             stick=np.broadcast_to(self.fr_stuck.astype(float), (t.size, self.nf)),
+            story_force=story_force,
+            story_hysteretic=hysteretic,
         )
 
     def tolerances(self, system: PoundingSystem, ground: GroundMotion, rtol, atol):
@@ -474,6 +555,7 @@ class _Model:
         scale[self.ifb] = v_c * np.sqrt(m_el[self.bil] * k_el[self.bil])
         scale[self.ij] = m_el * v_c
         scale[self.iz] = 1.0
+        scale[self.ist] = 1.0  # ζ (≤ 1 at the yield force) and ε (hysteretic work / F_y δ_y)
         scale[[self.i_in, self.i_damp, self.i_work]] = e_c
         if self.nf:
             scale[self.i_fric] = e_c
@@ -503,6 +585,7 @@ class _Recorder:
             energy=np.zeros((nt, len(ENERGY_TERMS))),
             friction=np.zeros((nt, model.nf)),
             stick=np.zeros((nt, model.nf)),
+            story_force=np.zeros((nt, model.ns)),
         )
         self.ground = np.asarray(ground.at(times), dtype=float)
         self.peak = dict(
@@ -511,6 +594,7 @@ class _Recorder:
             abs_acc=np.zeros(n),
             force=np.zeros(ne),
             d=np.zeros(ne),
+            story_force=np.zeros(model.ns),
         )
         self.impacts: list[dict[str, float]] = []
         self.open: dict[int, dict[str, float]] = {}
@@ -538,6 +622,9 @@ class _Recorder:
         np.maximum(pk["u"], np.abs(q["u"]).max(axis=0), out=pk["u"])
         np.maximum(pk["drift"], np.abs(q["drift"]).max(axis=0), out=pk["drift"])
         np.maximum(pk["abs_acc"], np.abs(q["abs_acc"]).max(axis=0), out=pk["abs_acc"])
+        if model.ns:
+            peak = np.abs(q["story_force"]).max(axis=0)
+            np.maximum(pk["story_force"], peak, out=pk["story_force"])
         if not model.ne:
             return
         np.maximum(pk["force"], q["force"].max(axis=0), out=pk["force"])
@@ -834,11 +921,18 @@ def integrate_ivp(
             "not integrate links; allowed with links: newmark, linear_acceleration, hht"
         )
     if len(system.stories):
-        models = sorted(set(system.stories.model))
-        raise PoundingInputError(
-            f"stories.model = {models[0]!r}: analysis.method = 'ivp' integrates elastic stories "
-            "only; allowed with yielding stories: newmark, linear_acceleration, hht"
-        )
+        other = sorted(set(system.stories.model) - {"bouc_wen"})
+        if other:
+            raise PoundingInputError(
+                f"stories.model = {other[0]!r}: analysis.method = 'ivp' integrates elastic and "
+                "bouc_wen stories (a piecewise-linear model needs its yield and reversal events); "
+                "allowed with it: newmark, linear_acceleration, hht"
+            )
+        if len(system.friction):
+            raise PoundingInputError(
+                "analysis.method = 'ivp' does not combine bouc_wen stories with isolation "
+                "bearings; allowed: newmark, linear_acceleration, hht"
+            )
     method, rtol, atol, max_step, times = _validate(method, rtol, atol, max_step, output_times)
     if not isinstance(system, PoundingSystem):
         raise PoundingInputError(f"system = {type(system).__name__}; allowed: a PoundingSystem")
@@ -945,6 +1039,11 @@ def integrate_ivp(
         impacts=rec.impact_log(impulse_now),
         friction_force=out["friction"],
         stick=out["stick"],
+        story_force=out["story_force"],
+        peak_story_force=rec.peak["story_force"],
+        story_hysteretic=(
+            _story_values(y[model.iu][None, :], y[model.ist][None, :], model.stories)[3][0]
+        ),
         info=dict(
             integrator="ivp",
             method=method,
