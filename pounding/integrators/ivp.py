@@ -69,6 +69,7 @@ import numpy as np
 
 from pounding.errors import IntegrationError, PoundingInputError
 from pounding.ground_motion import GroundMotion
+from pounding.integrators._families import gather
 from pounding.integrators._kernels import (
     BILINEAR_ID,
     bilinear_rate,
@@ -274,13 +275,7 @@ def _story_rhs(y, dy, n, i0, dof, sign, params, minv):
     dy[n:2n] −= M⁻¹ Bᵀ (F − k δ) (K holds k δ) and the rates ζ̇ = δ̇/δ_y g, ε̇ = (1 − α) δ̇ ζ/δ_y."""
     ns = dof.shape[0]
     for e in range(ns):
-        d = 0.0
-        dd = 0.0
-        for s in range(2):
-            i = dof[e, s]
-            if i >= 0:
-                d += sign[e, s] * y[i]
-                dd += sign[e, s] * y[n + i]
+        d, dd = gather(dof, sign, e, y[:n], y[n : 2 * n])
         k, fy, al, nn, be, ga = (
             params[e, 0],
             params[e, 1],
