@@ -385,7 +385,7 @@ def result_variables(
                     raw,
                     drift / heights,
                     per_building(raw.peak_drift) / heights,
-                    np.array([b.stories.yielding or b.p_delta for b in bl]),
+                    np.array([b.can_collapse for b in bl]),
                 ),
             ),
             "residual_drift": (("building", "story"), drift[-1]),

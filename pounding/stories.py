@@ -281,6 +281,13 @@ class Stories:
             raise PoundingInputError(
                 "stories.park_ang_beta needs stories.ultimate_drift (δ_u/h) for the Park–Ang index"
             )
+        beta = self.parameters.get("park_ang_beta", PARK_ANG_BETA)
+        if (
+            isinstance(beta, bool)
+            or not isinstance(beta, int | float)
+            or not 0.0 <= beta < math.inf
+        ):
+            raise PoundingInputError(f"stories.park_ang_beta = {beta!r}; allowed: a number ≥ 0")
 
     @property
     def yielding(self) -> bool:
@@ -337,10 +344,7 @@ class Stories:
     @property
     def park_ang_beta(self) -> float:
         """β of the Park–Ang index (default :data:`PARK_ANG_BETA`)."""
-        beta = float(self.parameters.get("park_ang_beta", PARK_ANG_BETA))
-        if not (math.isfinite(beta) and beta >= 0.0):
-            raise PoundingInputError(f"stories.park_ang_beta = {beta}; allowed: ≥ 0")
-        return beta
+        return float(self.parameters.get("park_ang_beta", PARK_ANG_BETA))
 
 
 def park_ang(

@@ -422,7 +422,6 @@ class ShearBuilding:
         if self.stories.yielding:  # per-story parameters checked now, before any analysis
             self.story_parameters()
             self.stories.ultimate_drift(n, where)
-            _ = self.stories.park_ang_beta
 
     def story_parameters(self) -> np.ndarray:
         """Rows (k, F_y, model parameters) of the story elements of a yielding model (n × p)."""
@@ -463,6 +462,12 @@ class ShearBuilding:
     def total_mass(self) -> float:
         """Sum of the floor masses [kg] (without a base slab)."""
         return float(self.masses.sum())
+
+    @property
+    def can_collapse(self) -> bool:
+        """True when the building can lose lateral strength (yielding stories or P-Δ): only then
+        does a drift beyond ``[analysis] collapse_drift`` count as collapse."""
+        return self.stories.yielding or self.p_delta
 
     @property
     def isolated(self) -> bool:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding._numba import jit, jit_inline
+from pounding._numba import jit, jit_inline, jit_internal
 
 
 @jit
@@ -306,6 +306,18 @@ def _woodbury_correct(n, x_dof, x_sign, kc, Zr, S, y, x, m):
     return True
 
 
+@jit_internal
+def inverse_column(J_inv, dof, sign, c, Z):
+    """Z[:, c] = J⁻¹ b_c, b_c the signs of row c at its dofs (a dof of −1 is the ground)."""
+    for i in range(J_inv.shape[0]):
+        z = 0.0
+        for s in range(2):
+            k = dof[c, s]
+            if k >= 0:
+                z += J_inv[i, k] * sign[c, s]
+        Z[i, c] = z
+
+
 @jit
 def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
     """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using J⁻¹ and the Sherman–Morrison–Woodbury identity.
@@ -330,13 +342,7 @@ def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
     for c in range(n_el):
         if kc[c] == 0.0:
             continue
-        for i in range(n):
-            z = 0.0
-            for s in range(2):
-                k = el_dof[c, s]
-                if k >= 0:
-                    z += J_inv[i, k] * el_sign[c, s]
-            Z[i, c] = z
+        inverse_column(J_inv, el_dof, el_sign, c, Z)
         m += 1
     if m == 0:
         return True

@@ -47,6 +47,7 @@ from pounding.integrators._linalg import (
     band_ldl_into,
     band_solve,
     bandwidth,
+    inverse_column,
     to_band,
     woodbury_band_solve,
 )
@@ -213,16 +214,9 @@ def linear_step_coulomb(md, fac, g_eff, cf, x0, fr, tr, wk):
 def condense_map(J_inv, dof, sign, Z, S):
     """Z = J⁻¹ B (n × C) and S = Bᵀ J⁻¹ B (C × C), B the gap elements' sign columns: how contact
     forces move every dof and every gap through one step of the linear system (in place)."""
-    n = J_inv.shape[0]
     n_el = Z.shape[1]
     for c in range(n_el):
-        for i in range(n):
-            z = 0.0
-            for s in range(2):
-                k = dof[c, s]
-                if k >= 0:
-                    z += J_inv[i, k] * sign[c, s]
-            Z[i, c] = z
+        inverse_column(J_inv, dof, sign, c, Z)
     for r in range(n_el):
         for c in range(n_el):
             acc = 0.0

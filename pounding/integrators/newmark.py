@@ -265,10 +265,7 @@ def collapse_drifts(system: PoundingSystem, limit: float) -> np.ndarray:
     to lose; its drift beyond the ``drift_limit`` is a warning) and at a base slab."""
     h = system.story_height
     can = np.concatenate(
-        [
-            np.full(b.n_floors + (1 if b.isolated else 0), b.stories.yielding or b.p_delta)
-            for b in system.buildings
-        ]
+        [np.full(b.n_floors + (1 if b.isolated else 0), b.can_collapse) for b in system.buildings]
     )
     return np.where(can & (h > 0.0), limit * h, np.inf)
 
