@@ -29,7 +29,18 @@ Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) 
 ``bouc_wen`` [4]_, [5]_
     F = α k δ + (1 − α) F_y ζ with δ_y dζ/dδ = [A − ν (β sgn(δ̇ ζ) + γ) abs(ζ)^n]/η,
     A(ε) = A − δ_A ε, ν = 1 + δ_ν ε, η = 1 + δ_η ε; ``hardening`` α, ``n``, ``beta``, ``gamma``,
-    ``A``, ``delta_a``, ``delta_nu``, ``delta_eta``.
+    ``A``, ``delta_a``, ``delta_nu``, ``delta_eta``; pinching [8]_ multiplies δ_y dζ/dδ by
+    h = 1 − ζ1 exp(−(ζ sgn δ̇ − q ζ_u)²/ζ2²), ζ1 = ζ_s (1 − exp(−p ε)), ζ2 = (ψ + δ_ψ ε)(λ + ζ1),
+    ζ_u = [A/(ν (β + γ))]^(1/n): ``zeta_s`` (0, no pinching, to < 1), ``p``, ``q``, ``psi``,
+    ``delta_psi``, ``lambda`` (ψ and ζ_u in units of δ_y, ε normalised as below).
+``takeda`` [6]_, [7]_
+    Peak-oriented stiffness degradation of reinforced concrete on the bilinear backbone k,
+    (δ_y, F_y), b k: unloading at k_u = k (δ_m/δ_y)^(−a) (δ_m the peak drift on that side) down to
+    zero force, reloading along the line to the opposite side's peak (the yield point before it
+    yields), a partial unloading reloads at k_u until it meets that line; ``hardening`` b,
+    ``unloading_exponent`` a (0.4 Takeda; 0 is Clough's model). Exact for any monotone drift
+    increment (the branch changes within it are followed); OpenSees ``Hysteretic`` with
+    pinchX = pinchY = 1, damage1 = damage2 = 0, beta = a on the same backbone.
 
 The bilinear update bounds the trial force by the two hardening lines, so it is exact for any
 step (the return map of kinematic hardening; OpenSees ``Steel01`` with a1 = a3 = 0): unloading is
@@ -44,9 +55,9 @@ beta = β/δ_y^n, Ao = A, deltaA = δ_A/(F_y δ_y), deltaNu = δ_ν/(F_y δ_y), 
 ζ and ε are integrated over each drift increment by classical RK4 in sub-steps of at most
 ``BW_STEP`` δ_y (the monotonic closed forms are met to 1e-9).
 
-Recoverable energy of a story is F²/(2k) (unloading at slope k); the rest of ∫F dδ is its
-hysteretic (dissipated) energy E_h = W − F²/(2k), the ledger term ``hysteretic`` (Bouc–Wen:
-α k δ²/2 + (1 − α) F_y δ_y ζ²/2 is recoverable).
+Recoverable energy of a story is F²/(2k) (unloading at slope k; Takeda F²/(2 k_u)); the rest of
+∫F dδ is its hysteretic (dissipated) energy E_h = W − F²/(2k), the ledger term ``hysteretic``
+(Bouc–Wen: α k δ²/2 + (1 − α) F_y δ_y ζ²/2 is recoverable).
 
 Damage: story ductility μ = max|δ|/δ_y, and the Park–Ang index [3]_
 
@@ -68,6 +79,12 @@ References
    102(EM2), 249-263.
 .. [5] Baber, T.T., Noori, M.N. (1985). Random vibration of degrading, pinching systems. J. Eng.
    Mech. 111(8), 1010-1026. doi:10.1061/(ASCE)0733-9399(1985)111:8(1010)
+.. [6] Takeda, T., Sozen, M.A., Nielsen, N.N. (1970). Reinforced concrete response to simulated
+   earthquakes. J. Struct. Div. 96(ST12), 2557-2573.
+.. [7] Otani, S. (1981). Hysteresis models of reinforced concrete for earthquake response analysis.
+   J. Fac. Eng. Univ. Tokyo 36(2), 407-441 (Clough & Johnston 1966 and Takeda rules).
+.. [8] Foliente, G.C. (1995). Hysteresis modeling of wood joints and structural systems. J. Struct.
+   Eng. 121(6), 1013-1022. doi:10.1061/(ASCE)0733-9445(1995)121:6(1013)
 """
 
 from __future__ import annotations
@@ -84,11 +101,14 @@ from pounding.errors import PoundingInputError
 #: Kind id of the story family in the compiled dispatch (pounding.integrators._dispatch).
 FAMILY_STORY = 1
 #: Columns of a story's state row: spring force F [N] (the force it reports), δ [m], W = ∫F dδ [J],
-#: the recoverable energy E [J] it holds; then the model's own (Bouc–Wen: ζ, ε).
+#: the recoverable energy E [J] it holds; then the model's own (Bouc–Wen: ζ, ε; Takeda: the peak
+#: drifts [m] reached on each side, the zero-force drifts [m] the reloads start from, the direction
+#: of the last increment).
 SS_F, SS_D, SS_W, SS_E, SS_Z, SS_EPS = 0, 1, 2, 3, 4, 5
-N_STORY_STATE = 6
-#: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 8).
-N_STORY_PARAMS = 10
+SS_PEAK_POS, SS_PEAK_NEG, SS_ZERO_POS, SS_ZERO_NEG, SS_DIR = 4, 5, 6, 7, 8
+N_STORY_STATE = 9
+#: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14).
+N_STORY_PARAMS = 16
 #: Largest Bouc–Wen sub-step, as a fraction of δ_y (classical RK4 per sub-step).
 BW_STEP = 0.02
 #: Park–Ang β when ``ultimate_drift`` is given without it (Park & Ang 1985: 0.05-0.15).
@@ -116,47 +136,142 @@ def bilinear_story_kernel(d, dd, h, s0, s1, p):
     return f - k * d, kt - k, 0.0
 
 
-def bouc_wen_story_kernel(d, dd, h, s0, s1, p):
-    """Bouc–Wen story [4]_, [5]_: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the drift
-    increment by classical RK4 sub-steps of at most BW_STEP δ_y; tangent α k + (1 − α) k δ_y dζ/dx
-    at the end."""
-    k, fy, alpha, n, beta, gamma = p[0], p[1], p[2], p[3], p[4], p[5]
-    a0, d_a, d_nu, d_eta = p[6], p[7], p[8], p[9]
+def bouc_wen_story_rate(z, eps, sgn, p):
+    """δ_y dζ/dδ of a Bouc–Wen story [4]_, [5]_ at (ζ, ε) moving in direction sgn (±1):
+    h(ζ, ε) [A − ν (β sgn(δ̇ ζ) + γ) abs(ζ)^n]/η with A = A0 − δ_A ε, ν = 1 + δ_ν ε,
+    η = 1 + δ_η ε and the pinching factor h of Foliente [8]_ (1 when ζ_s = 0)."""
+    n, beta, gamma = p[3], p[4], p[5]
+    a = p[6] - p[7] * eps
+    nu = 1.0 + p[8] * eps
+    psi = gamma + (beta if sgn * z > 0.0 else -beta if sgn * z < 0.0 else 0.0)
+    az = abs(z)
+    zn = az * az if n == 2.0 else az if n == 1.0 else az**n  # pow() is most of the cost
+    g = (a - nu * psi * zn) / (1.0 + p[9] * eps)
+    zeta_s = p[10]
+    if zeta_s > 0.0:
+        # h = 1 − ζ1 exp(−(ζ sgn − q ζ_u)²/ζ2²), ζ1 = ζ_s (1 − e^(−p ε)), ζ2 = (ψ + δ_ψ ε)(λ + ζ1)
+        z_u = (max(a, 0.0) / (nu * (beta + gamma))) ** (1.0 / n)
+        z1 = zeta_s * (1.0 - math.exp(-p[11] * eps))
+        z2 = (p[13] + p[14] * eps) * (p[15] + z1)
+        x = (sgn * z - p[12] * z_u) / z2
+        g *= 1.0 - z1 * math.exp(-x * x)
+    return g
+
+
+def make_bouc_wen_story_kernel(rate):
+    """The Bouc–Wen story kernel on a given ``rate`` (:func:`bouc_wen_story_rate`, plain or
+    compiled: numba compiles the kernel with its rate as a constant)."""
+
+    def bouc_wen_story_kernel(d, dd, h, s0, s1, p):
+        """Bouc–Wen story [4]_, [5]_, [8]_: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the
+        drift increment by classical RK4 sub-steps of at most BW_STEP δ_y; tangent
+        α k + (1 − α) k δ_y dζ/dx at the end."""
+        k, fy, alpha = p[0], p[1], p[2]
+        dy = fy / k
+        dx = d - s0[SS_D]
+        sgn = 1.0 if dx >= 0.0 else -1.0
+        m = max(1, min(int(math.ceil(abs(dx) / (BW_STEP * dy))), 100000))
+        hx = dx / m / dy  # the sub-step in units of δ_y
+        z = s0[SS_Z]
+        eps = s0[SS_EPS]
+        c = 1.0 - alpha  # dε/dx δ_y = (1 − α) ζ
+        for _ in range(m):
+            g1 = rate(z, eps, sgn, p)
+            z2 = z + 0.5 * hx * g1
+            g2 = rate(z2, eps + 0.5 * hx * c * z, sgn, p)
+            z3 = z + 0.5 * hx * g2
+            g3 = rate(z3, eps + 0.5 * hx * c * z2, sgn, p)
+            z4 = z + hx * g3
+            g4 = rate(z4, eps + hx * c * z3, sgn, p)
+            eps += hx * c * (z + 2.0 * z2 + 2.0 * z3 + z4) / 6.0
+            z += hx * (g1 + 2.0 * g2 + 2.0 * g3 + g4) / 6.0
+        g = rate(z, eps, sgn, p)
+        f = alpha * k * d + c * fy * z
+        s1[SS_F] = f
+        s1[SS_D] = d
+        s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
+        s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * dy * z * z
+        s1[SS_Z] = z
+        s1[SS_EPS] = eps
+        return f - k * d, k * (alpha + c * g) - k, 0.0
+
+    return bouc_wen_story_kernel
+
+
+bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_rate)
+
+
+def takeda_story_kernel(d, dd, h, s0, s1, p):
+    """Modified Takeda peak-oriented story [6]_, [7]_ on a bilinear backbone (hardening b = p[2],
+    unloading exponent a = p[3]; Clough's model at a = 0), exact for a monotone drift increment.
+
+    Unloading from the side of peak drift δ_m is at k (δ_m/δ_y)^(−a) down to zero force; the reload
+    then aims at the other side's peak (δ_m', F_env(δ_m')), the yield point if that side never
+    yielded; after a partial unloading it reloads at the unloading stiffness until it meets that
+    line. Past the peak it follows the backbone."""
+    k, fy, b, a = p[0], p[1], p[2], p[3]
     dy = fy / k
-    dx = d - s0[SS_D]
-    sgn = 1.0 if dx >= 0.0 else -1.0
-
-    def slope(z, eps):
-        # δ_y dζ/dx: A = A0 − δ_A ε, ν = 1 + δ_ν ε, η = 1 + δ_η ε; β acts on sgn(δ̇ ζ)
-        psi = gamma + (beta if sgn * z > 0.0 else -beta if sgn * z < 0.0 else 0.0)
-        az = abs(z)
-        zn = az * az if n == 2.0 else az if n == 1.0 else az**n  # pow() is most of the cost
-        return ((a0 - d_a * eps) - (1.0 + d_nu * eps) * psi * zn) / (1.0 + d_eta * eps)
-
-    m = max(1, min(int(math.ceil(abs(dx) / (BW_STEP * dy))), 100000))
-    hx = dx / m / dy  # the sub-step in units of δ_y
-    z = s0[SS_Z]
-    eps = s0[SS_EPS]
-    c = 1.0 - alpha  # dε/dx δ_y = (1 − α) ζ
-    for _ in range(m):
-        g1 = slope(z, eps)
-        g2 = slope(z + 0.5 * hx * g1, eps + 0.5 * hx * c * z)
-        z2 = z + 0.5 * hx * g1
-        g3 = slope(z + 0.5 * hx * g2, eps + 0.5 * hx * c * z2)
-        z3 = z + 0.5 * hx * g2
-        g4 = slope(z + hx * g3, eps + hx * c * z3)
-        z4 = z + hx * g3
-        eps += hx * c * (z + 2.0 * z2 + 2.0 * z3 + z4) / 6.0
-        z += hx * (g1 + 2.0 * g2 + 2.0 * g3 + g4) / 6.0
-    g = slope(z, eps)
-    f = alpha * k * d + c * fy * z
+    d0 = s0[SS_D]
+    f0 = s0[SS_F]
+    pos = max(s0[SS_PEAK_POS], dy)
+    neg = min(s0[SS_PEAK_NEG], -dy)
+    k_pos = k if a == 0.0 else k * (pos / dy) ** -a
+    k_neg = k if a == 0.0 else k * (-neg / dy) ** -a
+    zero_pos, zero_neg = s0[SS_ZERO_POS], s0[SS_ZERO_NEG]
+    direction = s0[SS_DIR]
+    dx = d - d0
+    f = f0
+    kt = k_pos if f0 > 0.0 else k_neg
+    if dx > 0.0:
+        if direction <= 0.0 and f0 <= 0.0:
+            zero_pos = d0 - f0 / k_neg
+        direction = 1.0
+        if d >= pos:
+            f = fy + b * k * (d - dy)
+            kt = b * k
+        elif f0 < 0.0 and d < zero_pos:
+            f = f0 + k_neg * dx
+            kt = k_neg
+        else:
+            f_peak = fy + b * k * (pos - dy)
+            # a reload line steeper than k (unreachable for usual b, a) would divide by ~0
+            zero_pos = min(zero_pos, pos - f_peak / k)
+            kt = f_peak / (pos - zero_pos)
+            f = kt * (d - zero_pos)
+            if f0 > 0.0 and f0 + k_pos * dx < f:
+                f = f0 + k_pos * dx
+                kt = k_pos
+    elif dx < 0.0:
+        if direction >= 0.0 and f0 >= 0.0:
+            zero_neg = d0 - f0 / k_pos
+        direction = -1.0
+        if d <= neg:
+            f = -fy + b * k * (d + dy)
+            kt = b * k
+        elif f0 > 0.0 and d > zero_neg:
+            f = f0 + k_pos * dx
+            kt = k_pos
+        else:
+            f_peak = -fy + b * k * (neg + dy)
+            zero_neg = max(zero_neg, neg - f_peak / k)
+            kt = f_peak / (neg - zero_neg)
+            f = kt * (d - zero_neg)
+            if f0 < 0.0 and f0 + k_neg * dx > f:
+                f = f0 + k_neg * dx
+                kt = k_neg
+    pos = max(pos, d)
+    neg = min(neg, d)
+    k_u = k if a == 0.0 else k * ((pos if f > 0.0 else -neg) / dy) ** -a
     s1[SS_F] = f
     s1[SS_D] = d
-    s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
-    s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * dy * z * z
-    s1[SS_Z] = z
-    s1[SS_EPS] = eps
-    return f - k * d, k * (alpha + c * g) - k, 0.0
+    s1[SS_W] = s0[SS_W] + 0.5 * (f0 + f) * dx
+    s1[SS_E] = 0.5 * f * f / k_u
+    s1[SS_PEAK_POS] = pos
+    s1[SS_PEAK_NEG] = neg
+    s1[SS_ZERO_POS] = zero_pos
+    s1[SS_ZERO_NEG] = zero_neg
+    s1[SS_DIR] = direction
+    return f - k * d, kt - k, 0.0
 
 
 def story_stored(d, f, s, p):
@@ -204,10 +319,19 @@ _MODELS = (
                (("hardening", "", 0.0, 0.0, 1.0), ("n", "", 2.0, 0.1, 50.0),
                 ("beta", "", 0.5, -10.0, 10.0), ("gamma", "", 0.5, -10.0, 10.0),
                 ("A", "", 1.0, 0.0, 10.0), ("delta_a", "", 0.0, 0.0, 10.0),
-                ("delta_nu", "", 0.0, 0.0, 10.0), ("delta_eta", "", 0.0, 0.0, 10.0)),
-               "F = α k δ + (1 − α) F_y ζ, δ_y ζ' = [A − ν (β sgn(δ̇ ζ) + γ) |ζ|^n]/η",
-               "Wen 1976; Baber & Noori 1985 (degradation)",
-               "BoucWen alpha=α ko=k n gamma=γ/δ_y^n beta=β/δ_y^n Ao=A (deltas: see docs)"),
+                ("delta_nu", "", 0.0, 0.0, 10.0), ("delta_eta", "", 0.0, 0.0, 10.0),
+                ("zeta_s", "", 0.0, 0.0, 0.99), ("p", "", 1.0, 0.0, 100.0),
+                ("q", "", 0.0, 0.0, 1.0), ("psi", "", 0.2, 1e-6, 10.0),
+                ("delta_psi", "", 0.0, 0.0, 10.0), ("lambda", "", 0.5, 0.0, 10.0)),
+               "F = α k δ + (1 − α) F_y ζ, δ_y ζ' = h(ζ, ε) [A − ν (β sgn(δ̇ ζ) + γ) |ζ|^n]/η",
+               "Wen 1976; Baber & Noori 1985 (degradation); Foliente 1995 (pinching h)",
+               "BoucWen alpha=α ko=k n gamma=γ/δ_y^n beta=β/δ_y^n Ao=A (deltas: see docs); "
+               "BWBN with pinching"),
+    StoryModel("takeda", 3, takeda_story_kernel,
+               (("hardening", "", 0.0, 0.0, 1.0), ("unloading_exponent", "", 0.4, 0.0, 2.0)),
+               "peak-oriented: unload at k (δ_m/δ_y)^(−a) to F = 0, reload to the opposite peak",
+               "Takeda, Sozen & Nielsen 1970; Clough & Johnston 1966 (a = 0); Otani 1981",
+               "Hysteretic (bilinear backbone) pinchX=pinchY=1 damage1=damage2=0 beta=a"),
 )  # fmt: skip
 
 #: Story models by name.

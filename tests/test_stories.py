@@ -15,6 +15,7 @@ from pounding import PoundingInputError, simulate
 from pounding.case import CaseError, case_from_dict
 from pounding.ground_motion import GroundMotion, sine_pulse
 from pounding.stories import (
+    N_STORY_PARAMS,
     N_STORY_STATE,
     SS_E,
     SS_EPS,
@@ -96,7 +97,7 @@ def test_damped_epp_oscillator_comes_to_rest_at_its_peak_less_the_yield_drift():
 
 def _drive(history: np.ndarray, k: float, fy: float, b: float) -> np.ndarray:
     """Run the kernel along a drift history; rows (F, tangent, W)."""
-    p = np.array([k, fy, b, *np.zeros(7)])
+    p = np.array([k, fy, b, *np.zeros(N_STORY_PARAMS - 3)])
     s0, s1 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
     out = []
     for d in history:
@@ -419,7 +420,7 @@ def _drive_bouc_wen(history: np.ndarray, p: np.ndarray) -> np.ndarray:
 def test_bouc_wen_monotonic_loading_follows_the_closed_form(n):
     # A = 1, β + γ = 1 (units δ_y): n = 1 ζ = 1 − exp(−x); n = 2 ζ = tanh(x)
     k, fy = 1.0e7, 1.0e4
-    p = np.array([k, fy, 0.05, n, 0.5, 0.5, 1.0, 0.0, 0.0, 0.0])
+    p = np.array([k, fy, 0.05, n, 0.5, 0.5, 1.0, *np.zeros(N_STORY_PARAMS - 7)])
     x = np.linspace(0.0, 6.0, 61)
     rows = _drive_bouc_wen(x * fy / k, p)
     zeta = 1.0 - np.exp(-x) if n == 1.0 else np.tanh(x)
@@ -432,7 +433,7 @@ def test_bouc_wen_cycle_dissipates_its_hysteretic_work():
     # spring's own work (1 − α) F_y ∮ζ dδ, which the kernel integrates as ε by RK4
     k, fy = 1.0e7, 1.0e4
     dy = fy / k
-    p = np.array([k, fy, 0.1, 1.5, 0.6, 0.4, 1.0, 0.0, 0.0, 0.0])
+    p = np.array([k, fy, 0.1, 1.5, 0.6, 0.4, 1.0, *np.zeros(N_STORY_PARAMS - 7)])
     t = np.linspace(0.0, 3.0, 30001)
     rows = _drive_bouc_wen(4.0 * dy * np.sin(2.0 * np.pi * t), p)
     w_h = rows[-1, 2] - rows[-1, 3]  # work less the recoverable energy (δ back at 0)
@@ -447,7 +448,7 @@ def _reference_bouc_wen(b, c, gm: GroundMotion, duration: float, wall_k: float, 
     n = b.n_floors
     m = b.masses
     p = b.story_parameters()
-    k, fy, al, nn, be, ga, a0, d_a, d_nu, d_eta = p.T
+    k, fy, al, nn, be, ga, a0, d_a, d_nu, d_eta = p[:, :10].T
     dy = fy / k
     t_rec = gm.dt * np.arange(gm.acceleration.size)
 

@@ -145,7 +145,9 @@ _kelvin_link_stored = jit(_links.kelvin_link_stored)
 _viscous_link_stored = jit(_links.viscous_link_stored)
 _maxwell_link_stored = jit(_links.maxwell_link_stored)
 _bilinear_story = jit(_stories.bilinear_story_kernel)
-_bouc_wen_story = jit(_stories.bouc_wen_story_kernel)
+bouc_wen_story_rate = jit(_stories.bouc_wen_story_rate)
+_bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_rate))
+_takeda_story = jit(_stories.takeda_story_kernel)
 _story_stored = jit(_stories.story_stored)
 
 FAMILY_LINK = _links.FAMILY_LINK
@@ -160,7 +162,9 @@ def element_eval(kind, law, d, dd, h, s0, s1, p):
     if kind == FAMILY_STORY:
         if law == 1:
             return _bilinear_story(d, dd, h, s0, s1, p)
-        return _bouc_wen_story(d, dd, h, s0, s1, p)
+        if law == 2:
+            return _bouc_wen_story(d, dd, h, s0, s1, p)
+        return _takeda_story(d, dd, h, s0, s1, p)
     if law == 0:
         return _kelvin_link(d, dd, h, s0, s1, p)
     if law == 1:

@@ -20,6 +20,7 @@ from pounding.integrators._dispatch import (  # noqa: F401
     bilinear_rate,
     bouc_wen_rate,
     bouc_wen_slide,
+    bouc_wen_story_rate,
     contact_eval,
     contact_stored_energy,
     element_eval,

@@ -74,6 +74,7 @@ from pounding.integrators._kernels import (
     BILINEAR_ID,
     bilinear_rate,
     bouc_wen_rate,
+    bouc_wen_story_rate,
     contact_eval,
     contact_stored_energy,
     friction_eval,
@@ -272,19 +273,12 @@ def _validate(
 @jit
 def _story_rhs(y, dy, n, i0, dof, sign, params, minv):
     """Bouc–Wen stories (pounding.stories, normalised ζ = z/δ_y and ε as states from index i0):
-    dy[n:2n] −= M⁻¹ Bᵀ (F − k δ) (K holds k δ) and the rates ζ̇ = δ̇/δ_y g, ε̇ = (1 − α) δ̇ ζ/δ_y."""
+    dy[n:2n] −= M⁻¹ Bᵀ (F − k δ) (K holds k δ) and the rates ζ̇ = δ̇/δ_y g, ε̇ = (1 − α) δ̇ ζ/δ_y
+    with g the story kernel's own rate."""
     ns = dof.shape[0]
     for e in range(ns):
         d, dd = gather(dof, sign, e, y[:n], y[n : 2 * n])
-        k, fy, al, nn, be, ga = (
-            params[e, 0],
-            params[e, 1],
-            params[e, 2],
-            params[e, 3],
-            params[e, 4],
-            params[e, 5],
-        )
-        a0, d_a, d_nu, d_eta = params[e, 6], params[e, 7], params[e, 8], params[e, 9]
+        k, fy, al = params[e, 0], params[e, 1], params[e, 2]
         dy_ = fy / k
         z = y[i0 + e]
         eps = y[i0 + ns + e]
@@ -293,9 +287,7 @@ def _story_rhs(y, dy, n, i0, dof, sign, params, minv):
             i = dof[e, s]
             if i >= 0:
                 dy[n + i] -= minv[i] * sign[e, s] * corr
-        sz = dd * z
-        psi = ga + (be if sz > 0.0 else -be if sz < 0.0 else 0.0)
-        g = ((a0 - d_a * eps) - (1.0 + d_nu * eps) * psi * abs(z) ** nn) / (1.0 + d_eta * eps)
+        g = bouc_wen_story_rate(z, eps, 1.0 if dd >= 0.0 else -1.0, params[e])
         dy[i0 + e] = dd / dy_ * g
         dy[i0 + ns + e] = (1.0 - al) * dd * z / dy_
 
