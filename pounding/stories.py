@@ -41,6 +41,18 @@ Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) 
     ``unloading_exponent`` a (0.4 Takeda; 0 is Clough's model). Exact for any monotone drift
     increment (the branch changes within it are followed); OpenSees ``Hysteretic`` with
     pinchX = pinchY = 1, damage1 = damage2 = 0, beta = a on the same backbone.
+``imk`` [9]_
+    Ibarra–Medina–Krawinkler peak-oriented model with capping and cyclic deterioration (the
+    collapse-capable model). Backbone per side: k to (δ_y, F_y), α_s k (``hardening``) to the cap at
+    δ_y + δ_p (``plastic_drift`` δ_p/h), then the post-cap slope −F_c/δ_pc (``post_cap_drift``
+    δ_pc/h from the cap to zero force) down to the residual κ F_y (``residual``). Unloading at K_u
+    to zero force, reloading to the target (the peak drift reached on that side) on the current
+    backbone. Each mode x (strength s, post-cap c, accelerated reloading a, unloading stiffness k)
+    has an energy capacity E_t = γ_x F_y δ_y (``gamma_s`` ... ``gamma_k``; 0 = off) and
+    β = (E_i/(E_t − ΣE))^c (``c``): at each zero-force crossing the side about to be loaded loses
+    F_y, α_s ← (1 − β_s), F_ref ← (1 − β_c) (the post-cap line moves in), its target drift grows by
+    (1 + β_a); at each reversal K_u ← (1 − β_k) K_u (E_i: hysteretic energy since the last
+    crossing, resp. reversal). A spent capacity (β = 1) fails the story: no force from then on.
 
 The bilinear update bounds the trial force by the two hardening lines, so it is exact for any
 step (the return map of kinematic hardening; OpenSees ``Steel01`` with a1 = a3 = 0): unloading is
@@ -85,6 +97,9 @@ References
    J. Fac. Eng. Univ. Tokyo 36(2), 407-441 (Clough & Johnston 1966 and Takeda rules).
 .. [8] Foliente, G.C. (1995). Hysteresis modeling of wood joints and structural systems. J. Struct.
    Eng. 121(6), 1013-1022. doi:10.1061/(ASCE)0733-9445(1995)121:6(1013)
+.. [9] Ibarra, L.F., Medina, R.A., Krawinkler, H. (2005). Hysteretic models that incorporate
+   strength and stiffness deterioration. Earthquake Eng. Struct. Dyn. 34(12), 1489-1511.
+   doi:10.1002/eqe.495
 """
 
 from __future__ import annotations
@@ -106,8 +121,15 @@ FAMILY_STORY = 1
 #: of the last increment).
 SS_F, SS_D, SS_W, SS_E, SS_Z, SS_EPS = 0, 1, 2, 3, 4, 5
 SS_PEAK_POS, SS_PEAK_NEG, SS_ZERO_POS, SS_ZERO_NEG, SS_DIR = 4, 5, 6, 7, 8
-N_STORY_STATE = 9
-#: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14).
+#: IMK: the direction and the zero-force drifts as Takeda's, then the strength and post-cap
+#: fractions lost on each side, the unloading-stiffness fraction lost, the target drifts [m], the
+#: hysteretic energy [J] at the last reversal and the work [J] at the last zero-force crossing, and
+#: a failed flag (an energy capacity spent: no force any more).
+SS_DS_POS, SS_DS_NEG, SS_DC_POS, SS_DC_NEG, SS_DK = 9, 10, 11, 12, 13
+SS_T_POS, SS_T_NEG, SS_E_REV, SS_W_CROSS, SS_FAILED = 14, 15, 16, 17, 18
+N_STORY_STATE = 19
+#: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14;
+#: drift parameters in metres).
 N_STORY_PARAMS = 16
 #: Largest Bouc–Wen sub-step, as a fraction of δ_y (classical RK4 per sub-step).
 BW_STEP = 0.02
@@ -274,6 +296,127 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
     return f - k * d, kt - k, 0.0
 
 
+def imk_story_kernel(d, dd, h, s0, s1, p):
+    """Ibarra–Medina–Krawinkler peak-oriented story [9]_ with cyclic deterioration of strength,
+    post-cap strength, unloading stiffness and accelerated reloading; p = (k, F_y, α_s, δ_p [m],
+    δ_pc [m], κ, γ_s, γ_c, γ_a, γ_k, c). Worked in the frame of the increment (the side being loaded
+    is +), exact for a monotone drift increment, the deterioration applied where it happens within
+    it (the reversal, the zero-force crossing)."""
+    k, fy0, alpha, d_p, d_pc, kappa = p[0], p[1], p[2], p[3], p[4], p[5]
+    g_s, g_c, g_a, g_k, c = p[6], p[7], p[8], p[9], p[10]
+    dy = fy0 / k
+    e_y = fy0 * dy
+    f_cap = fy0 + alpha * k * d_p
+    k_c = -f_cap / d_pc
+    f_ref0 = f_cap - k_c * (dy + d_p)
+    f_res = kappa * fy0
+    d0, f0, w0 = s0[SS_D], s0[SS_F], s0[SS_W]
+    dx = d - d0
+
+    def deterioration(e_i, remaining):
+        # β = (E_i/(E_t − ΣE))^c, 1 once the capacity is spent
+        if remaining <= 0.0:
+            return 1.0
+        r = max(e_i, 0.0) / remaining
+        if r >= 1.0:
+            return 1.0
+        return r if c == 1.0 else r**c
+
+    for i in range(N_STORY_STATE):
+        s1[i] = s0[i]
+    dk = s0[SS_DK]
+    failed = s0[SS_FAILED] > 0.0
+    ku = k * (1.0 - dk)
+    if failed or dx == 0.0:
+        f = 0.0 if failed else f0
+        kt = 0.0 if failed else ku
+        s1[SS_F] = f
+        s1[SS_D] = d
+        s1[SS_W] = w0 + 0.5 * (f0 + f) * dx
+        s1[SS_E] = 0.0 if failed else 0.5 * f * f / ku
+        return f - k * d, kt - k, 0.0
+    sgn = 1.0 if dx > 0.0 else -1.0
+    # the frame of the increment: x moves up, the loaded side is "a"
+    x, x0, g = sgn * d, sgn * d0, sgn * f0
+    if sgn > 0.0:
+        z_a, ds_a, dc_a, t_a = s0[SS_ZERO_POS], s0[SS_DS_POS], s0[SS_DC_POS], s0[SS_T_POS]
+    else:
+        z_a, ds_a, dc_a, t_a = -s0[SS_ZERO_NEG], s0[SS_DS_NEG], s0[SS_DC_NEG], -s0[SS_T_NEG]
+    t_a = max(t_a, dy)
+    direction = sgn * s0[SS_DIR]
+    if direction < 0.0:
+        # a reversal: unloading-stiffness deterioration by the energy dissipated since the last
+        # reversal
+        e_now = max(w0 - 0.5 * f0 * f0 / ku, 0.0)
+        if g_k > 0.0:
+            beta = deterioration(e_now - s0[SS_E_REV], g_k * e_y - e_now)
+            failed = beta >= 1.0
+            dk = 1.0 - (1.0 - dk) * (1.0 - beta)
+            ku = k * (1.0 - dk) if not failed else ku
+        s1[SS_E_REV] = e_now
+    if direction <= 0.0 and g <= 0.0:
+        z_a = x0 - g / ku
+    if g < 0.0 and x >= z_a:
+        # the force crosses zero in this increment: deterioration of the side now loaded
+        w_cross = w0 + 0.5 * g * (z_a - x0)
+        e_i = w_cross - s0[SS_W_CROSS]
+        if g_s > 0.0:
+            beta = deterioration(e_i, g_s * e_y - w_cross)
+            failed = failed or beta >= 1.0
+            ds_a = 1.0 - (1.0 - ds_a) * (1.0 - beta)
+        if g_c > 0.0:
+            beta = deterioration(e_i, g_c * e_y - w_cross)
+            failed = failed or beta >= 1.0
+            dc_a = 1.0 - (1.0 - dc_a) * (1.0 - beta)
+        if g_a > 0.0:
+            t_a *= 1.0 + deterioration(e_i, g_a * e_y - w_cross)
+        s1[SS_W_CROSS] = w_cross
+    fy = fy0 * (1.0 - ds_a)
+    hard = alpha * k * (1.0 - ds_a)
+    f_ref = f_ref0 * (1.0 - dc_a)
+
+    def envelope(y):
+        # max(κ F_y0, min(k y, F_y + α k (y − F_y/k), F_ref + k_c y)) and its slope
+        fe, se = k * y, k
+        fh = fy + hard * (y - fy / k)
+        if fh < fe:
+            fe, se = fh, hard
+        fc = f_ref + k_c * y
+        if fc < fe:
+            fe, se = fc, k_c
+        if f_res > fe:
+            fe, se = f_res, 0.0
+        return fe, se
+
+    if failed:
+        gx, kt = 0.0, 0.0
+    elif x >= t_a:
+        gx, kt = envelope(x)
+        t_a = x
+    elif g < 0.0 and x < z_a:
+        gx, kt = g + ku * (x - x0), ku
+    else:
+        f_t = envelope(t_a)[0]
+        z_use = min(z_a, t_a - f_t / k)
+        kt = f_t / (t_a - z_use) if f_t > 0.0 else 0.0
+        gx = kt * (x - z_use)
+        if g > 0.0 and g + ku * (x - x0) < gx:
+            gx, kt = g + ku * (x - x0), ku
+    f = sgn * gx
+    if sgn > 0.0:
+        s1[SS_ZERO_POS], s1[SS_DS_POS], s1[SS_DC_POS], s1[SS_T_POS] = z_a, ds_a, dc_a, t_a
+    else:
+        s1[SS_ZERO_NEG], s1[SS_DS_NEG], s1[SS_DC_NEG], s1[SS_T_NEG] = -z_a, ds_a, dc_a, -t_a
+    s1[SS_DK] = dk
+    s1[SS_DIR] = sgn
+    s1[SS_FAILED] = 1.0 if failed else 0.0
+    s1[SS_F] = f
+    s1[SS_D] = d
+    s1[SS_W] = w0 + 0.5 * (f0 + f) * dx
+    s1[SS_E] = 0.0 if failed else 0.5 * f * f / ku
+    return f - k * d, kt - k, 0.0
+
+
 def story_stored(d, f, s, p):
     """Recoverable energy [J] of a story element beyond the k δ²/2 of the assembled K (the whole
     story then holds the E of its state: F²/(2k) for the bilinear model)."""
@@ -308,6 +451,9 @@ class StoryModel:
     opensees: str
 
 
+#: Unit of a parameter given as a drift ratio (δ/h) and passed to the kernel in metres.
+_DRIFT = "δ/h"
+
 _MODELS = (
     StoryModel("elastic", -1, None, (), "F = k δ", "Chopra 2017, Dynamics of Structures, Sec. 9.2",
                "Elastic"),
@@ -332,6 +478,16 @@ _MODELS = (
                "peak-oriented: unload at k (δ_m/δ_y)^(−a) to F = 0, reload to the opposite peak",
                "Takeda, Sozen & Nielsen 1970; Clough & Johnston 1966 (a = 0); Otani 1981",
                "Hysteretic (bilinear backbone) pinchX=pinchY=1 damage1=damage2=0 beta=a"),
+    StoryModel("imk", 4, imk_story_kernel,
+               (("hardening", "", 0.03, 0.0, 1.0), ("plastic_drift", _DRIFT, 0.02, 1e-6, 1.0),
+                ("post_cap_drift", _DRIFT, 0.1, 1e-6, 10.0), ("residual", "", 0.2, 0.0, 1.0),
+                ("gamma_s", "", 0.0, 0.0, 1e6), ("gamma_c", "", 0.0, 0.0, 1e6),
+                ("gamma_a", "", 0.0, 0.0, 1e6), ("gamma_k", "", 0.0, 0.0, 1e6),
+                ("c", "", 1.0, 0.1, 10.0)),
+               "backbone k, α_s k to the cap, post-cap slope to κ F_y; peak-oriented; "
+               "β = (E_i/(γ F_y δ_y − ΣE))^c per mode",
+               "Ibarra, Medina & Krawinkler 2005; Lignos & Krawinkler 2011",
+               "ModIMKPeakOriented (Lamda = γ δ_y, Lamda_K = γ_K δ_y/2, theta in drift × h)"),
 )  # fmt: skip
 
 #: Story models by name.
@@ -447,7 +603,7 @@ class Stories:
         for j, (key, unit, default, low, high) in enumerate(model.parameters):
             rows[:, 2 + j] = _per_story(
                 p.get(key, default), n, f"{where}.stories.{key}", unit, low, high
-            )
+            ) * (heights if unit == _DRIFT else 1.0)
         if self.model == "bouc_wen" and np.any(rows[:, 4] + rows[:, 5] <= 0.0):
             raise PoundingInputError(
                 f"{where}.stories: beta + gamma = {float(np.min(rows[:, 4] + rows[:, 5])):g}; "

@@ -148,6 +148,7 @@ _bilinear_story = jit(_stories.bilinear_story_kernel)
 bouc_wen_story_rate = jit(_stories.bouc_wen_story_rate)
 _bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_rate))
 _takeda_story = jit(_stories.takeda_story_kernel)
+_imk_story = jit(_stories.imk_story_kernel)
 _story_stored = jit(_stories.story_stored)
 
 FAMILY_LINK = _links.FAMILY_LINK
@@ -164,7 +165,9 @@ def element_eval(kind, law, d, dd, h, s0, s1, p):
             return _bilinear_story(d, dd, h, s0, s1, p)
         if law == 2:
             return _bouc_wen_story(d, dd, h, s0, s1, p)
-        return _takeda_story(d, dd, h, s0, s1, p)
+        if law == 3:
+            return _takeda_story(d, dd, h, s0, s1, p)
+        return _imk_story(d, dd, h, s0, s1, p)
     if law == 0:
         return _kelvin_link(d, dd, h, s0, s1, p)
     if law == 1:
