@@ -256,7 +256,7 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
             kt = k_neg
         else:
             f_peak = fy + b * k * (pos - dy)
-            # a reload line steeper than k (unreachable for usual b, a) would divide by ~0
+            # a reload line steeper than k (beyond the checked ductility) would divide by ~0
             zero_pos = min(zero_pos, pos - f_peak / k)
             kt = f_peak / (pos - zero_pos)
             f = kt * (d - zero_pos)
@@ -519,6 +519,26 @@ def _per_story(value: Any, n: int, where: str, unit: str, low: float, high: floa
     return array
 
 
+#: Largest ductility over which the Takeda rules are checked to be well posed.
+TAKEDA_DUCTILITY = 100.0
+
+
+def _check_takeda(b: np.ndarray, a: np.ndarray, where: str) -> None:
+    """The Takeda rules need an unloading stiffness k μ^(−a) no softer than the secant to the peak,
+    (1 + b (μ − 1)) k/μ, or a reload line would be steeper than the unloading and the response
+    would depend on the step: μ^(1−a) ≥ 1 + b (μ − 1) up to μ = TAKEDA_DUCTILITY."""
+    mu = np.geomspace(1.0, TAKEDA_DUCTILITY, 400)[1:]
+    for i in range(b.size):
+        bad = mu ** (1.0 - a[i]) < 1.0 + b[i] * (mu - 1.0) - 1e-12
+        if np.any(bad):
+            raise PoundingInputError(
+                f"{where}.stories: unloading_exponent = {a[i]:g} with hardening = {b[i]:g} makes "
+                f"the unloading stiffness k μ^(−a) softer than the secant to the peak from "
+                f"ductility {mu[bad][0]:.3g}; allowed: μ^(1−a) ≥ 1 + b (μ − 1) up to μ = "
+                f"{TAKEDA_DUCTILITY:g} (e.g. a ≤ 0.5 with b ≤ 0.05, a ≤ 0.4 with b ≤ 0.1)"
+            )
+
+
 @dataclass(frozen=True)
 class Stories:
     """The story model of a building and its parameters (scalars, or one value per story).
@@ -604,6 +624,8 @@ class Stories:
             rows[:, 2 + j] = _per_story(
                 p.get(key, default), n, f"{where}.stories.{key}", unit, low, high
             ) * (heights if unit == _DRIFT else 1.0)
+        if self.model == "takeda":
+            _check_takeda(rows[:, 2], rows[:, 3], where)
         if self.model == "bouc_wen" and np.any(rows[:, 4] + rows[:, 5] <= 0.0):
             raise PoundingInputError(
                 f"{where}.stories: beta + gamma = {float(np.min(rows[:, 4] + rows[:, 5])):g}; "

@@ -26,7 +26,7 @@ from pounding.stories import (
     bilinear_story_kernel,
     bouc_wen_story_kernel,
 )
-from pounding.structure import RayleighDamping, ShearBuilding
+from pounding.structure import IsolationBase, RayleighDamping, ShearBuilding
 from pounding.system import Contact, assemble
 
 M, T = 1.0e5, 0.5
@@ -287,11 +287,15 @@ def test_inconsistent_stories_tables_are_refused_naming_the_key(stories, message
     assert message in str(err.value)
 
 
-def test_ivp_path_refuses_yielding_stories_before_integrating():
-    system = assemble(*_pair(Stories("bilinear", {"yield_drift": 0.004})))
+def test_ivp_path_refuses_yielding_stories_on_isolation_bearings_before_integrating():
+    base = IsolationBase(type="flat", friction="coulomb", mass=3e5, mu_s=0.1, mu_d=0.08)
+    stories = Stories("bilinear", {"yield_drift": 0.004})
+    a = ShearBuilding.uniform("A", 3, period=0.35, mass=2.0e5, stories=stories, base=base)
     gm = sine_pulse(amplitude=3.0, period=0.5, duration=1.0, dt=0.01)
-    with pytest.raises(PoundingInputError, match="'bilinear'.*allowed with it: newmark"):
-        simulate(system, gm, method="ivp")
+    with pytest.raises(
+        PoundingInputError, match="yielding stories with isolation.*allowed: newmark"
+    ):
+        simulate(assemble([a], []), gm, method="ivp")
 
 
 def _p_delta_sdof(theta: float, ratio: float = 0.0, yielding: bool = True) -> ShearBuilding:
@@ -558,3 +562,36 @@ def test_every_schemes_ledger_closes_with_yielding_stories(method, model):
     final = ds.energy.isel(time=-1)
     assert float(final.sel(term="hysteretic")) > 0.05 * float(final.sel(term="input"))
     assert ds.attrs["energy_balance_error"] < 1e-6
+
+
+_PIECEWISE = {
+    "bilinear": {"yield_drift": 0.003, "hardening": 0.05},
+    "takeda": {"yield_drift": 0.003, "hardening": 0.05},
+    "imk": {"yield_drift": 0.003, "plastic_drift": 0.01, "post_cap_drift": 0.08, "gamma_s": 40,
+            "gamma_c": 40, "gamma_a": 40, "gamma_k": 40},
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("model", sorted(_PIECEWISE))
+def test_ivp_path_integrates_piecewise_linear_stories_between_reversal_events(model):
+    # the kernel state is committed at each located reversal of a story's drift; in between the
+    # kernel is exact for the monotone increment, so the ivp path agrees with a fine Newmark run
+    # (measured 2026-11-26: ≤ 4e-5 of the peaks, 70-91 events)
+    building = ShearBuilding.uniform(
+        "A", 3, period=0.4, mass=2.0e5, stories=Stories(model, _PIECEWISE[model])
+    )
+    other = ShearBuilding.uniform("B", 5, period=0.8, mass=2.0e5)
+    system = assemble([building, other], [Contact("A", "B", gap=0.01, law="hertz", k=2e9)])
+    gm = sine_pulse(amplitude=0.5 * 9.80665, period=0.6, duration=3.0, dt=0.002)
+    newmark = simulate(system, gm, dt=1e-4, output_dt=0.01)
+    ivp = simulate(system, gm, method="ivp", output_dt=0.01, rtol=1e-9)
+    assert int(ivp.impact_count.sum()) == int(newmark.impact_count.sum()) > 0
+    assert float(ivp.story_ductility.max()) > 4.0
+    for name in ("displacement", "story_spring_force"):
+        a, b = ivp[name].values, newmark[name].values
+        assert np.nanmax(np.abs(a - b)) < 5e-4 * np.nanmax(np.abs(b)), name
+    np.testing.assert_allclose(
+        ivp.hysteretic_energy.sel(building="A"), newmark.hysteretic_energy.sel(building="A"),
+        rtol=1e-3, atol=1e-6 * float(newmark.hysteretic_energy.sum()),
+    )  # fmt: skip
+    assert ivp.attrs["energy_balance_error"] < 1e-6

@@ -46,6 +46,11 @@ How the integration is cut into pieces:
   f = p, and a terminal event μ_s N − |p| = 0 (break-away) after which it slides towards sign(p).
   A jump of a contact force at a restart (Kelvin onset) is checked too. The other friction laws are
   smooth functions of u̇_b (and z) in the right-hand side.
+* **Yielding stories.** Bouc–Wen stories carry ζ and ε as states. A piecewise-linear story
+  (``bilinear``, ``takeda``, ``imk``) has a terminal event at each reversal of its drift (δ̇ = 0
+  against its motion); its kernel state is committed at every restart, so between reversals its
+  force is the kernel's exact answer for the monotone drift since then, kinks (yield, zero-force
+  crossing, reloading onto the backbone) included, and its work ∫F dδ is a state.
 
 Peaks are taken from the dense output at :data:`SAMPLES_PER_STEP` points inside every accepted solver
 step, plus the step ends and the event points, not only on the output grid; the contact force and
@@ -72,11 +77,14 @@ from pounding.ground_motion import GroundMotion
 from pounding.integrators._families import gather
 from pounding.integrators._kernels import (
     BILINEAR_ID,
+    FAMILY_STORY,
     bilinear_rate,
     bouc_wen_rate,
     bouc_wen_story_rate,
     contact_eval,
     contact_stored_energy,
+    element_eval,
+    element_stored,
     friction_eval,
     friction_hysteretic_eval,
     jit,
@@ -89,7 +97,11 @@ from pounding.integrators.base import (
     response_scales,
     v0_floor,
 )
+from pounding.stories import N_STORY_STATE, STORY_MODELS
 from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB, PoundingSystem
+
+#: Kernel id of the Bouc–Wen story model (its ζ and ε are ODE states here).
+BOUC_WEN_STORY = STORY_MODELS["bouc_wen"].kernel_id
 
 #: solve_ivp methods this path accepts.
 IVP_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
@@ -271,30 +283,56 @@ def _validate(
 
 
 @jit
-def _story_rhs(y, dy, n, i0, dof, sign, params, minv):
-    """Bouc–Wen stories (pounding.stories, normalised ζ = z/δ_y and ε as states from index i0):
-    dy[n:2n] −= M⁻¹ Bᵀ (F − k δ) (K holds k δ) and the rates ζ̇ = δ̇/δ_y g, ε̇ = (1 − α) δ̇ ζ/δ_y
-    with g the story kernel's own rate."""
+def _story_rhs(y, dy, n, i0, dof, sign, law, params, committed, trial, minv):
+    """Yielding stories (pounding.stories; states from index i0: ζ_e then ε_e of each story):
+    dy[n:2n] −= M⁻¹ Bᵀ (F − k δ) (K holds k δ). Bouc–Wen: ζ̇ = δ̇/δ_y g with the kernel's own
+    rate g, ε̇ = (1 − α) δ̇ ζ/δ_y. A piecewise-linear model (bilinear, takeda, imk): F from its kernel
+    for the monotone drift increment since its committed state (the last reversal, an event), and
+    ε̇ = F δ̇/(F_y δ_y), its work normalised (ζ stays 0)."""
     ns = dof.shape[0]
     for e in range(ns):
         d, dd = gather(dof, sign, e, y[:n], y[n : 2 * n])
-        k, fy, al = params[e, 0], params[e, 1], params[e, 2]
+        k, fy = params[e, 0], params[e, 1]
         dy_ = fy / k
-        z = y[i0 + e]
-        eps = y[i0 + ns + e]
-        corr = al * k * d + (1.0 - al) * fy * z - k * d
+        if law[e] == BOUC_WEN_STORY:
+            al = params[e, 2]
+            z = y[i0 + e]
+            corr = al * k * d + (1.0 - al) * fy * z - k * d
+            g = bouc_wen_story_rate(z, y[i0 + ns + e], 1.0 if dd >= 0.0 else -1.0, params[e])
+            dy[i0 + e] = dd / dy_ * g
+            dy[i0 + ns + e] = (1.0 - al) * dd * z / dy_
+        else:
+            corr = element_eval(
+                FAMILY_STORY, law[e], d, dd, 0.0, committed[e], trial[e], params[e]
+            )[0]
+            dy[i0 + e] = 0.0
+            dy[i0 + ns + e] = (corr + k * d) * dd / (fy * dy_)
         for s in range(2):
             i = dof[e, s]
             if i >= 0:
                 dy[n + i] -= minv[i] * sign[e, s] * corr
-        g = bouc_wen_story_rate(z, eps, 1.0 if dd >= 0.0 else -1.0, params[e])
-        dy[i0 + e] = dd / dy_ * g
-        dy[i0 + ns + e] = (1.0 - al) * dd * z / dy_
 
 
-def _story_values(u: np.ndarray, ys: np.ndarray, st) -> tuple[np.ndarray, ...]:
-    """(F, F − k δ, recoverable energy beyond k δ²/2, hysteretic energy) of every Bouc–Wen story at
+@jit
+def _story_samples(d, law, params, committed, trial, f, extra):
+    """Force F [N] and recoverable energy beyond k δ²/2 [J] of the piecewise-linear stories at drifts
+    d (samples × stories) from their committed states (Bouc–Wen columns are left alone)."""
+    for i in range(d.shape[0]):
+        for e in range(d.shape[1]):
+            if law[e] != BOUC_WEN_STORY:
+                corr = element_eval(
+                    FAMILY_STORY, law[e], d[i, e], 0.0, 0.0, committed[e], trial[e], params[e]
+                )[0]
+                f[i, e] = corr + params[e, 0] * d[i, e]
+                extra[i, e] = element_stored(
+                    FAMILY_STORY, law[e], d[i, e], f[i, e], trial[e], params[e]
+                )
+
+
+def _story_values(u: np.ndarray, ys: np.ndarray, model: _Model) -> tuple[np.ndarray, ...]:
+    """(F, F − k δ, recoverable energy beyond k δ²/2, hysteretic energy) of every yielding story at
     displacements u (samples × n) and story states ys (samples × 2 ns)."""
+    st = model.stories
     ns = len(st)
     p = st.params
     k, fy, al = p[:, 0], p[:, 1], p[:, 2]
@@ -308,7 +346,16 @@ def _story_values(u: np.ndarray, ys: np.ndarray, st) -> tuple[np.ndarray, ...]:
     f = al * k * d + (1.0 - al) * fy * z
     stored = 0.5 * al * k * d * d + 0.5 * (1.0 - al) * fy * dy_ * z * z
     e_h = eps * fy * dy_ - 0.5 * (1.0 - al) * fy * dy_ * z * z
-    return f, f - k * d, stored - 0.5 * k * d * d, e_h
+    extra = stored - 0.5 * k * d * d
+    if model.st_pl.size:
+        trial = np.zeros_like(model.st_committed)
+        _story_samples(
+            np.ascontiguousarray(d), model.st_law, p, model.st_committed, trial, f, extra
+        )
+        pl = model.st_pl
+        # ε of a piecewise-linear story is its work over F_y δ_y: E_h = W − recoverable
+        e_h[:, pl] = eps[:, pl] * (fy * dy_)[pl] - (extra + 0.5 * k * d * d)[:, pl]
+    return f, f - k * d, extra, e_h
 
 
 class _Model:
@@ -371,12 +418,18 @@ class _Model:
         # W_f only with friction elements (a state more changes the error norm of every run)
         self.i_in, self.i_damp, self.i_work, self.i_fric = 2 * n + nb + ne + nz + np.arange(4)
         self.size = 2 * n + nb + ne + nz + (4 if nf else 3)
-        # Bouc–Wen stories: ζ and ε of each, after everything else
+        # yielding stories: ζ and ε of each, after everything else (a piecewise-linear model's ε is
+        # its normalised work; its kernel state is committed at each reversal of its drift, an event)
         self.stories = st = system.stories
         self.ns = ns = len(st)
         self.ist = slice(self.size, self.size + 2 * ns)
         self.size += 2 * ns
         self.st_minv = 1.0 / np.diag(self.mass)
+        self.st_law = np.ascontiguousarray(st.law_id, dtype=np.int64)
+        self.st_pl = np.flatnonzero(self.st_law != BOUC_WEN_STORY)
+        self.st_committed = np.zeros((ns, N_STORY_STATE))
+        self.st_trial = np.zeros((ns, N_STORY_STATE))
+        self.st_dir = np.zeros(ns)  # drift direction since the last commit (0: at rest so far)
         # history variables (per contact phase)
         self.v0 = np.zeros(ne)
         self.d_tol = 0.0  # [m], set by tolerances()
@@ -407,7 +460,10 @@ class _Model:
         )  # fmt: skip
         if self.ns:
             st = self.stories
-            _story_rhs(y, dy, self.n, self.ist.start, st.dof, st.sign, st.params, self.st_minv)
+            _story_rhs(
+                y, dy, self.n, self.ist.start, st.dof, st.sign, self.st_law, st.params,
+                self.st_committed, self.st_trial, self.st_minv,
+            )  # fmt: skip
         return dy
 
     def friction_now(self, t: float, y: np.ndarray) -> np.ndarray:
@@ -423,6 +479,32 @@ class _Model:
             return float(self.friction_now(t, y)[k])
         finally:
             self.fr_stuck[k] = stuck
+
+    def story_drifts(self, x: np.ndarray) -> np.ndarray:
+        """Story drifts [m] (or drift rates) of the yielding stories from floor values x."""
+        st = self.stories
+        out = np.zeros(self.ns)
+        for s in range(2):
+            hit = st.dof[:, s] >= 0
+            out[hit] += st.sign[hit, s] * x[st.dof[hit, s]]
+        return out
+
+    def commit_stories(self, y: np.ndarray) -> None:
+        """Commit the piecewise-linear stories' kernel states at y (the start of a solver call: after
+        a reversal, or any other restart) and give a direction to those that start moving."""
+        if not self.st_pl.size:
+            return
+        d = self.story_drifts(y[self.iu])
+        dd = self.story_drifts(y[self.iv])
+        p = self.stories.params
+        for e in self.st_pl:
+            element_eval(
+                FAMILY_STORY, self.st_law[e], d[e], dd[e], 0.0, self.st_committed[e],
+                self.st_trial[e], p[e],
+            )  # fmt: skip
+            self.st_committed[e] = self.st_trial[e]
+            if self.st_dir[e] == 0.0 and dd[e] != 0.0:
+                self.st_dir[e] = math.copysign(1.0, dd[e])
 
     def element_value(self, y: np.ndarray, c: int, key: str) -> float:
         """Penetration δ [m] (key "d") or contact force [N] (key "force") of element c at state y."""
@@ -474,7 +556,7 @@ class _Model:
         hysteretic = np.zeros(t.size)
         if self.ns:
             st = self.stories
-            story_force, corr, extra, e_h = _story_values(u, y[self.ist].T, st)
+            story_force, corr, extra, e_h = _story_values(u, y[self.ist].T, self)
             for s in range(2):
                 dof = st.dof[:, s]
                 hit = dof >= 0
@@ -721,6 +803,7 @@ def _events(model: _Model, in_contact: np.ndarray) -> list:
         event.direction = -1.0 if in_contact[c] else 1.0
         events.append(event)
     events += _friction_events(model)
+    events += _story_events(model)
     for c in range(model.ne):
         row = model.B[c]
 
@@ -766,6 +849,30 @@ def _missed_switch(model: _Model, sol, t0: float, in_contact: np.ndarray) -> tup
                 break
             lo = te
     return first, which
+
+
+def _story_events(model: _Model) -> list:
+    """One terminal event per piecewise-linear story: its drift rate crossing zero against its
+    motion (a reversal, where its kernel state is committed); none yet for a story still at rest."""
+    n = model.n
+    st = model.stories
+    events = []
+    for e in model.st_pl:
+        rows = [
+            (n + int(st.dof[e, s]), float(st.sign[e, s])) for s in range(2) if st.dof[e, s] >= 0
+        ]
+
+        def reversal(t, y, rows=rows):
+            return sum(sg * y[i] for i, sg in rows)
+
+        def at_rest(t, y):
+            return 1.0
+
+        event = reversal if model.st_dir[e] != 0.0 else at_rest
+        event.terminal = True
+        event.direction = -float(model.st_dir[e])
+        events.append(event)
+    return events
 
 
 def _friction_events(model: _Model) -> list:
@@ -907,19 +1014,11 @@ def integrate_ivp(
             f"the system has {len(system.links)} coupling link(s); analysis.method = 'ivp' does "
             "not integrate links; allowed with links: newmark, linear_acceleration, hht"
         )
-    if len(system.stories):
-        other = sorted(set(system.stories.model) - {"bouc_wen"})
-        if other:
-            raise PoundingInputError(
-                f"stories.model = {other[0]!r}: analysis.method = 'ivp' integrates elastic and "
-                "bouc_wen stories (a piecewise-linear model needs its yield and reversal events); "
-                "allowed with it: newmark, linear_acceleration, hht"
-            )
-        if len(system.friction):
-            raise PoundingInputError(
-                "analysis.method = 'ivp' does not combine bouc_wen stories with isolation "
-                "bearings; allowed: newmark, linear_acceleration, hht"
-            )
+    if len(system.stories) and len(system.friction):
+        raise PoundingInputError(
+            "analysis.method = 'ivp' does not combine yielding stories with isolation bearings; "
+            "allowed: newmark, linear_acceleration, hht"
+        )
     method, rtol, atol, max_step, times = _validate(method, rtol, atol, max_step, output_times)
     if not isinstance(system, PoundingSystem):
         raise PoundingInputError(f"system = {type(system).__name__}; allowed: a PoundingSystem")
@@ -949,6 +1048,8 @@ def integrate_ivp(
     for ta, tb in zip(bps[:-1], bps[1:], strict=True):
         model.set_ground(ground, ta, tb)
         while t < tb:
+            model.commit_stories(y)
+            n_pl = model.st_pl.size
             sol = solve_ivp(
                 model.rhs,
                 (t, tb),
@@ -958,7 +1059,9 @@ def integrate_ivp(
                 atol=atol_vec,
                 max_step=max_step,
                 first_step=None if first_step is None else min(first_step, tb - t),
-                events=_events(model, in_contact) if model.ne or model.coulomb.size else None,
+                events=_events(model, in_contact)
+                if model.ne or model.coulomb.size or n_pl
+                else None,
                 dense_output=True,
             )
             n_calls += 1
@@ -985,7 +1088,7 @@ def integrate_ivp(
                 stalls = 0
             else:
                 stalls += 1
-                if stalls > 3 * (model.ne + model.coulomb.size) + 3:
+                if stalls > 3 * (model.ne + model.coulomb.size + n_pl) + 3:
                     raise IntegrationError(
                         f"solve_ivp restarts made no progress at t = {t:.9g} s (contact events "
                         "firing at the restart point)"
@@ -999,12 +1102,19 @@ def integrate_ivp(
             y = sol.y[:, -1].copy()
             t = t_new
             if sol.status == 1:
-                n_term = model.ne + model.coulomb.size  # the terminal events come first
+                n_fr = model.ne + model.coulomb.size
+                n_term = n_fr + n_pl  # the terminal events come first
                 fired = [c for c, te in enumerate(sol.t_events[:n_term]) if te.size]
                 n_events += _switch(
                     model, rec, y, t, in_contact, [c for c in fired if c < model.ne]
                 )
-                n_events += _stick_slip(model, y, t, [c - model.ne for c in fired if c >= model.ne])
+                n_events += _stick_slip(
+                    model, y, t, [c - model.ne for c in fired if model.ne <= c < n_fr]
+                )
+                for c in fired:
+                    if c >= n_fr:  # a story's drift reverses: committed at the restart
+                        model.st_dir[model.st_pl[c - n_fr]] *= -1.0
+                        n_events += 1
                 first_step = None  # a new contact phase: let the solver choose its first step
 
     out = rec.out
@@ -1028,9 +1138,7 @@ def integrate_ivp(
         stick=out["stick"],
         story_force=out["story_force"],
         peak_story_force=rec.peak["story_force"],
-        story_hysteretic=(
-            _story_values(y[model.iu][None, :], y[model.ist][None, :], model.stories)[3][0]
-        ),
+        story_hysteretic=(_story_values(y[model.iu][None, :], y[model.ist][None, :], model)[3][0]),
         info=dict(
             integrator="ivp",
             method=method,

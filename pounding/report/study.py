@@ -123,7 +123,8 @@ def _summary_rows(ds: xr.Dataset, group: list[str]) -> Table:
         header,
         rows,
         "Median and dispersion β (lognormal, maximum likelihood: the root mean square of ln x about "
-        "its mean) over the records and any other axes; amplification = building's peak displacement with contact / without contact.",
+        "its mean) over the records; amplification = "
+        "building's peak displacement with contact / without contact.",
     )
 
 
@@ -276,6 +277,8 @@ def _comparison_section(ds: xr.Dataset) -> Section:
             )
         )
     group = [g for g in (y, x) if g is not None]
+    # the table keeps every other axis apart (e.g. elastic and yielding stories): records only
+    group += [a for a in _axes(ds) if a not in (*group, "record")]
     comp.blocks.append(_summary_rows(ds, group))
     return comp
 

@@ -6,7 +6,7 @@ import dataclasses
 import datetime
 import json
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -149,6 +149,16 @@ def run_summary(ds: xr.Dataset) -> xr.Dataset:
 # --------------------------------------------------------------------------------------------------
 
 
+def _table_label(value: Any) -> str:
+    """A table-valued axis value as a short label, its ``model`` first:
+    ``takeda yield_drift=0.003 hardening=0.02``; other values as JSON."""
+    if not isinstance(value, Mapping):
+        return json.dumps(value, sort_keys=True)
+    head = [str(value["model"])] if "model" in value else []
+    rest = [f"{k}={json.dumps(v)}" for k, v in value.items() if k != "model"]
+    return " ".join(head + rest) or "{}"
+
+
 def _axis_coord(name: str, values: Sequence[Any]) -> tuple[str, np.ndarray, dict[str, str]]:
     if name == "record":
         data = np.array([r.name for r in values], dtype=object).astype(str)
@@ -157,7 +167,7 @@ def _axis_coord(name: str, values: Sequence[Any]) -> tuple[str, np.ndarray, dict
         if data.dtype.kind == "U":
             data = data.astype(str)
     else:
-        data = np.array([json.dumps(v, sort_keys=True) for v in values], dtype=object).astype(str)
+        data = np.array([_table_label(v) for v in values], dtype=object).astype(str)
     attrs = dict(_AXIS_ATTRS.get(name, {}))
     if not attrs:
         last = name.split(".")[-1]
