@@ -9,7 +9,10 @@ benchmark record at dt = 1e-4 s, timed as the median of ``--repeats`` calls of
   (the 3-story building yields under this record, the 8-story one does not);
 * ``bilinear, low yield``: yield drift 0.2 %, so both buildings yield;
 * ``bouc_wen``: Bouc–Wen stories (n = 2, β = γ = 0.5, 3 % hardening), yield drift 0.5 %: smooth,
-  so no step is linear (Newton in every step).
+  so no step is linear (Newton in every step);
+* ``takeda``: Takeda stories (a = 0.4, 3 % hardening), yield drift 0.5 %;
+* ``imk``: IMK stories (3 % hardening, plastic drift 2 %, post-cap drift 10 %, γ = 50 for all four
+  deterioration modes), yield drift 0.5 %.
 
     python benchmarks/yielding_cost.py [--repeats 5] [--quick]
 """
@@ -39,8 +42,12 @@ from pounding import Stories, assemble  # noqa: E402
 from pounding.simulate import AnalysisOptions, run  # noqa: E402
 
 
+_DETERIORATION = {f"gamma_{m}": 50.0 for m in "scak"}
+
+
 def _yielding(system, yield_drift: float, model: str = "bilinear"):
-    stories = Stories(model, {"yield_drift": yield_drift, "hardening": 0.03})
+    extra = _DETERIORATION if model == "imk" else {}
+    stories = Stories(model, {"yield_drift": yield_drift, "hardening": 0.03, **extra})
     buildings = [dataclasses.replace(b, stories=stories) for b in system.buildings]
     return assemble(buildings, system.contacts)
 
@@ -62,6 +69,8 @@ def main(argv: list[str] | None = None) -> int:
         ("bilinear", _yielding(base, 0.005)),
         ("bilinear, low yield", _yielding(base, 0.002)),
         ("bouc_wen", _yielding(base, 0.005, "bouc_wen")),
+        ("takeda", _yielding(base, 0.005, "takeda")),
+        ("imk", _yielding(base, 0.005, "imk")),
     ):
         run(system, gm, opts)  # compiled and cached before the timing
         seconds, _, (raw, info) = median_time(lambda s=system: run(s, gm, opts), repeats)
