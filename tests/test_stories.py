@@ -504,10 +504,16 @@ def test_degrading_bouc_wen_building_pounding_on_a_wall_matches_an_independent_s
     assert ds.attrs["energy_balance_error"] < 5e-3
 
 
-@pytest.mark.parametrize("model", ["bilinear", "bouc_wen"])
+def _every_model(model: str) -> dict:
+    """Yield at 0.2 % drift, 3 % hardening; IMK with all four deterioration modes on."""
+    deterioration = {f"gamma_{m}": 30.0 for m in "scak"} if model == "imk" else {}
+    return {"yield_drift": 0.002, "hardening": 0.03, **deterioration}
+
+
+@pytest.mark.parametrize("model", ["bilinear", "bouc_wen", "takeda", "imk"])
 def test_mirrored_row_with_yielding_stories_gives_the_mirrored_response(model):
     # A left of B under a_g, against B left of A under −a_g: every displacement changes sign
-    stories = Stories(model, {"yield_drift": 0.002, "hardening": 0.03})
+    stories = Stories(model, _every_model(model))
     a = ShearBuilding.uniform("A", 3, period=0.35, mass=2.0e5, stories=stories)
     b = ShearBuilding.uniform("B", 5, period=0.8, mass=2.5e5)
     gm = sine_pulse(amplitude=0.5 * 9.80665, period=0.6, duration=3.0, dt=0.002)
@@ -552,10 +558,10 @@ def test_ivp_path_integrates_bouc_wen_stories_like_the_newmark_path():
 
 
 @pytest.mark.parametrize("method", ["newmark", "linear_acceleration", "hht"])
-@pytest.mark.parametrize("model", ["bilinear", "bouc_wen"])
+@pytest.mark.parametrize("model", ["bilinear", "bouc_wen", "takeda", "imk"])
 def test_every_schemes_ledger_closes_with_yielding_stories(method, model):
     # the hysteretic term joins the scheme's own energy identity (HHT's algorithmic term too)
-    stories = Stories(model, {"yield_drift": 0.002, "hardening": 0.03})
+    stories = Stories(model, _every_model(model))
     system = assemble(*_pair(stories))
     gm = sine_pulse(amplitude=0.5 * 9.80665, period=0.6, duration=3.0, dt=0.005)
     ds = simulate(system, gm, method=method, dt=5e-4, output_dt=0.01)
