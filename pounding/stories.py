@@ -123,11 +123,12 @@ SS_F, SS_D, SS_W, SS_E, SS_Z, SS_EPS = 0, 1, 2, 3, 4, 5
 SS_PEAK_POS, SS_PEAK_NEG, SS_ZERO_POS, SS_ZERO_NEG, SS_DIR = 4, 5, 6, 7, 8
 #: IMK: the direction and the zero-force drifts as Takeda's, then the strength and post-cap
 #: fractions lost on each side, the unloading-stiffness fraction lost, the target drifts [m], the
-#: hysteretic energy [J] at the last reversal and the work [J] at the last zero-force crossing, and
-#: a failed flag (an energy capacity spent: no force any more).
+#: hysteretic energy [J] at the last reversal and the work [J] at the last zero-force crossing, a
+#: failed flag (an energy capacity spent: no force any more), and the exact work ∫F dδ [J] along
+#: the path (W is the trapezoid per step, the energy ledger's own quadrature).
 SS_DS_POS, SS_DS_NEG, SS_DC_POS, SS_DC_NEG, SS_DK = 9, 10, 11, 12, 13
-SS_T_POS, SS_T_NEG, SS_E_REV, SS_W_CROSS, SS_FAILED = 14, 15, 16, 17, 18
-N_STORY_STATE = 19
+SS_T_POS, SS_T_NEG, SS_E_REV, SS_W_CROSS, SS_FAILED, SS_WX = 14, 15, 16, 17, 18, 19
+N_STORY_STATE = 20
 #: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14;
 #: drift parameters in metres).
 N_STORY_PARAMS = 16
@@ -300,8 +301,9 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     """Ibarra–Medina–Krawinkler peak-oriented story [9]_ with cyclic deterioration of strength,
     post-cap strength, unloading stiffness and accelerated reloading; p = (k, F_y, α_s, δ_p [m],
     δ_pc [m], κ, γ_s, γ_c, γ_a, γ_k, c). Worked in the frame of the increment (the side being loaded
-    is +), exact for a monotone drift increment, the deterioration applied where it happens within
-    it (the reversal, the zero-force crossing)."""
+    is +), exact for a monotone drift increment: the deterioration is applied where it happens
+    within it (the reversal, the zero-force crossing) and its energies are the exact work along the
+    piecewise-linear path (``SS_WX``; ``SS_W`` is the ledger's trapezoid per step)."""
     k, fy0, alpha, d_p, d_pc, kappa = p[0], p[1], p[2], p[3], p[4], p[5]
     g_s, g_c, g_a, g_k, c = p[6], p[7], p[8], p[9], p[10]
     dy = fy0 / k
@@ -310,7 +312,7 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     k_c = -f_cap / d_pc
     f_ref0 = f_cap - k_c * (dy + d_p)
     f_res = kappa * fy0
-    d0, f0, w0 = s0[SS_D], s0[SS_F], s0[SS_W]
+    d0, f0, w0, wx0 = s0[SS_D], s0[SS_F], s0[SS_W], s0[SS_WX]
     dx = d - d0
 
     def deterioration(e_i, remaining):
@@ -329,12 +331,12 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     ku = k * (1.0 - dk)
     if failed or dx == 0.0:
         f = 0.0 if failed else f0
-        kt = 0.0 if failed else ku
         s1[SS_F] = f
         s1[SS_D] = d
         s1[SS_W] = w0 + 0.5 * (f0 + f) * dx
+        s1[SS_WX] = wx0 + 0.5 * (f0 + f) * dx
         s1[SS_E] = 0.0 if failed else 0.5 * f * f / ku
-        return f - k * d, kt - k, 0.0
+        return f - k * d, (0.0 if failed else ku) - k, 0.0
     sgn = 1.0 if dx > 0.0 else -1.0
     # the frame of the increment: x moves up, the loaded side is "a"
     x, x0, g = sgn * d, sgn * d0, sgn * f0
@@ -347,7 +349,7 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     if direction < 0.0:
         # a reversal: unloading-stiffness deterioration by the energy dissipated since the last
         # reversal
-        e_now = max(w0 - 0.5 * f0 * f0 / ku, 0.0)
+        e_now = max(wx0 - 0.5 * f0 * f0 / ku, 0.0)
         if g_k > 0.0:
             beta = deterioration(e_now - s0[SS_E_REV], g_k * e_y - e_now)
             failed = beta >= 1.0
@@ -356,9 +358,10 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         s1[SS_E_REV] = e_now
     if direction <= 0.0 and g <= 0.0:
         z_a = x0 - g / ku
-    if g < 0.0 and x >= z_a:
+    crossing = g < 0.0 and x >= z_a
+    if crossing:
         # the force crosses zero in this increment: deterioration of the side now loaded
-        w_cross = w0 + 0.5 * g * (z_a - x0)
+        w_cross = wx0 + 0.5 * g * (z_a - x0)
         e_i = w_cross - s0[SS_W_CROSS]
         if g_s > 0.0:
             beta = deterioration(e_i, g_s * e_y - w_cross)
@@ -388,20 +391,47 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
             fe, se = f_res, 0.0
         return fe, se
 
-    if failed:
-        gx, kt = 0.0, 0.0
-    elif x >= t_a:
-        gx, kt = envelope(x)
+    # the reload line from (z', 0) to the target on the current backbone
+    f_t = envelope(t_a)[0]
+    z_use = min(z_a, t_a - f_t / k)
+    k_line = f_t / (t_a - z_use) if f_t > 0.0 else 0.0
+
+    def force_at(y):
+        # the force and its slope at drift y of this increment (frame units)
+        if failed:
+            return 0.0, 0.0
+        if y >= t_a:
+            return envelope(y)
+        if g < 0.0 and y < z_a:
+            return g + ku * (y - x0), ku
+        line = k_line * (y - z_use)
+        if g > 0.0 and g + ku * (y - x0) < line:
+            return g + ku * (y - x0), ku
+        return line, k_line
+
+    gx, kt = force_at(x)
+    # exact work along the path: trapezoids between the kinks it can pass (force_at is linear
+    # between them): the zero crossing, the inner reload meeting the line, the target, and the
+    # corners of the backbone
+    meet = (g - ku * x0 + k_line * z_use) / (k_line - ku) if k_line != ku else x0
+    corners = (
+        z_a, meet, t_a, fy / k, f_ref / (k - k_c), f_res / k,
+        (f_ref - fy + hard * fy / k) / (hard - k_c),
+        (f_res - f_ref) / k_c,
+        (f_res - fy + hard * fy / k) / hard if hard > 0.0 else x0,
+    )  # fmt: skip
+    w = 0.0
+    lo, f_lo = x0, g
+    while lo < x:
+        hi = x
+        for cx in corners:
+            if lo < cx < hi:
+                hi = cx
+        f_hi = force_at(hi)[0] if hi < x else gx
+        w += 0.5 * (f_lo + f_hi) * (hi - lo)
+        lo, f_lo = hi, f_hi
+    if t_a < x:
         t_a = x
-    elif g < 0.0 and x < z_a:
-        gx, kt = g + ku * (x - x0), ku
-    else:
-        f_t = envelope(t_a)[0]
-        z_use = min(z_a, t_a - f_t / k)
-        kt = f_t / (t_a - z_use) if f_t > 0.0 else 0.0
-        gx = kt * (x - z_use)
-        if g > 0.0 and g + ku * (x - x0) < gx:
-            gx, kt = g + ku * (x - x0), ku
     f = sgn * gx
     if sgn > 0.0:
         s1[SS_ZERO_POS], s1[SS_DS_POS], s1[SS_DC_POS], s1[SS_T_POS] = z_a, ds_a, dc_a, t_a
@@ -413,6 +443,7 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     s1[SS_F] = f
     s1[SS_D] = d
     s1[SS_W] = w0 + 0.5 * (f0 + f) * dx
+    s1[SS_WX] = wx0 + w
     s1[SS_E] = 0.0 if failed else 0.5 * f * f / ku
     return f - k * d, kt - k, 0.0
 

@@ -22,7 +22,7 @@ from pounding.stories import (
     N_STORY_STATE,
     SS_E,
     SS_F,
-    SS_W,
+    SS_WX,
     Stories,
     imk_story_kernel,
 )
@@ -47,13 +47,14 @@ def _params(
 
 
 def _drive(history: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Run the kernel along a drift history; rows (F, tangent, W, E)."""
+    """Run the kernel along a drift history; rows (F, tangent, W, E): W the exact path work
+    (SS_WX, what the deterioration uses; SS_W is the ledger's trapezoid per step)."""
     s0, s1 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
     out = []
     for d in history:
         corr, dk, _ = imk_story_kernel(d, 0.0, 3.0, s0, s1, p)
         assert corr == pytest.approx(s1[SS_F] - p[0] * d, abs=1e-12 * p[1])
-        out.append((s1[SS_F], dk + p[0], s1[SS_W], s1[SS_E]))
+        out.append((s1[SS_F], dk + p[0], s1[SS_WX], s1[SS_E]))
         s0[:] = s1
     return np.array(out)
 
@@ -316,6 +317,16 @@ def test_monotonic_push_to_15_yield_drifts_follows_the_backbone_to_the_residual(
     assert _reference(corners, p)[0][-1, 2] == pytest.approx(w * FY * DY, rel=1e-12)
 
 
+def test_before_any_yielding_the_story_is_linear_elastic():
+    # cycles inside ±δ_y with every mode on: no energy is dissipated, nothing deteriorates
+    p = _params(gammas=(5.0, 5.0, 5.0, 5.0))
+    history = 0.99 * DY * np.sin(np.linspace(0.0, 12.0 * np.pi, 400)) * np.linspace(0.2, 1.0, 400)
+    rows = _drive(history, p)
+    np.testing.assert_allclose(rows[:, 0], K * history, rtol=0.0, atol=1e-12 * FY)
+    np.testing.assert_allclose(rows[:, 1], K, rtol=1e-12)
+    np.testing.assert_allclose(rows[:, 2] - rows[:, 3], 0.0, atol=1e-12 * FY * DY)
+
+
 # ---------------------------------------------------------------------------------------------
 # cyclic histories against the rules
 
@@ -439,11 +450,11 @@ def test_a_spent_strength_capacity_fails_the_story():
     ref, kinks = _reference(history, p)
     np.testing.assert_allclose(ours[:, 0], ref[:, 0], rtol=0.0, atol=1e-9 * FY)
     np.testing.assert_allclose(ours[:, 2], ref[:, 2], rtol=1e-9)
-    spring = _IMK(p)
-    for i, d in enumerate(history):
-        spring.step(d)
-        if spring.failed:
-            break
+    spring, i = _IMK(p), 0
+    while not spring.failed:
+        spring.step(history[i])
+        i += 1
+    i -= 1  # the step that failed it
     assert 4 < i < history.size - 4  # after a few cycles, before the end
     assert not np.any(ours[i:, 0]) and not np.any(ours[i + 1 :, 1])
     assert np.abs(ours[:i, 0]).max() > FY
@@ -500,13 +511,10 @@ class _StoryEvents:
         d0, f0 = s.d, s.f
         s._begin(m)
         assert not s.failed
-        if m * f0 < 0.0:
-            cuts = [s.z[m]]
-        else:
-            cuts = [s.t[m], *(x for x in s.corners(m) if m * x > m * s.t[m])]
-            l0, sl = s.line(0.0, m)
-            if m * f0 > 0.0 and sl != s.ku:
-                cuts.append((f0 - s.ku * d0 - l0) / (sl - s.ku))
+        cuts = [s.z[m], s.t[m], *(x for x in s.corners(m) if m * x > m * s.t[m])]
+        l0, sl = s.line(0.0, m)
+        if m * f0 > 0.0 and sl != s.ku:
+            cuts.append((f0 - s.ku * d0 - l0) / (sl - s.ku))
         ahead = [x for x in cuts if m * (x - d0) > 1e-9 * s.dy]
         self.turn = min(ahead, key=lambda x: m * x) if ahead else m * math.inf
         probe = self.spring.copy()
