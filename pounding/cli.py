@@ -619,25 +619,15 @@ class _ProgressBar:
             typer.echo(line, err=True)
 
 
-@app.command()
-@user_errors
-def study(
-    case: str = typer.Argument(..., help="TOML case file with a [study] table."),
-    output: str = typer.Option(..., "-o", "--output", help="Write the study Dataset here (.nc)."),
-    jobs: int = typer.Option(
-        None, "-j", "--jobs", help="Local worker processes (default: all cores; 1 = serial)."
-    ),
-    scheduler: str = typer.Option(
-        None, help="dask.distributed scheduler address (e.g. tcp://host:8786): run there."
-    ),
-    store: str = typer.Option(
-        None, help="Directory of the per-run files (default: OUTPUT's name with .runs)."
-    ),
-    retry_failed: bool = typer.Option(
-        False, "--retry-failed", help="Run again the runs stored as failed."
-    ),
-) -> None:
-    """Run a comparative study: every combination of the [study] axes, resumable, in parallel."""
+def _run_study_command(
+    case: str,
+    output: str,
+    jobs: int | None,
+    scheduler: str | None,
+    store: str | None,
+    retry_failed: bool,
+) -> tuple[Any, float]:
+    """Plan, run (resumable, in parallel) and save a study; the Dataset and the start time."""
     _netcdf_output(output)
     import signal
     import time
@@ -685,13 +675,165 @@ def study(
         raise typer.Exit(code=128 + getattr(exc, "signum", signal.SIGINT)) from None
     save(ds, output)
     failed = int((ds["run_status"] == "failed").sum())
-    if "drift_amplification" in ds:
-        _print_study_statistics(ds if "record" in ds.dims else ds.expand_dims("record"))
     if failed:
         typer.echo(f"  {failed} combination(s) failed; their errors are in run_error, e.g.:")
         first = ds["run_error"].values[ds["run_status"].values == "failed"][0]
         typer.echo(f"    {first}")
-    typer.echo(f"  {time.monotonic() - start:.1f} s; written {output} (runs in {plan.store})")
+    return ds, start
+
+
+_STUDY_OPTIONS = dict(
+    jobs=typer.Option(
+        None, "-j", "--jobs", help="Local worker processes (default: all cores; 1 = serial)."
+    ),
+    scheduler=typer.Option(
+        None, help="dask.distributed scheduler address (e.g. tcp://host:8786): run there."
+    ),
+    store=typer.Option(
+        None, help="Directory of the per-run files (default: OUTPUT's name with .runs)."
+    ),
+    retry_failed=typer.Option(False, "--retry-failed", help="Run again the runs stored as failed."),
+)
+
+
+@app.command()
+@user_errors
+def study(
+    case: str = typer.Argument(..., help="TOML case file with a [study] table."),
+    output: str = typer.Option(..., "-o", "--output", help="Write the study Dataset here (.nc)."),
+    jobs: int = _STUDY_OPTIONS["jobs"],
+    scheduler: str = _STUDY_OPTIONS["scheduler"],
+    store: str = _STUDY_OPTIONS["store"],
+    retry_failed: bool = _STUDY_OPTIONS["retry_failed"],
+) -> None:
+    """Run a comparative study: every combination of the [study] axes, resumable, in parallel."""
+    import time
+
+    ds, start = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
+    if "drift_amplification" in ds:
+        _print_study_statistics(ds if "record" in ds.dims else ds.expand_dims("record"))
+    store_dir = ds.attrs.get("store", "")
+    typer.echo(f"  {time.monotonic() - start:.1f} s; written {output} (runs in {store_dir})")
+
+
+@app.command()
+@user_errors
+def ida(
+    case: str = typer.Argument(
+        ..., help="TOML case file with an [ida] table (im, levels, records, variants)."
+    ),
+    output: str = typer.Option(..., "-o", "--output", help="Write the IDA Dataset here (.nc)."),
+    jobs: int = _STUDY_OPTIONS["jobs"],
+    scheduler: str = _STUDY_OPTIONS["scheduler"],
+    store: str = _STUDY_OPTIONS["store"],
+    retry_failed: bool = _STUDY_OPTIONS["retry_failed"],
+) -> None:
+    """Incremental dynamic analysis: every record scaled to every intensity level, for every
+    variant (and without contact), resumable, in parallel; prints the fragility of each limit
+    state."""
+    import json
+    import time
+
+    ds, start = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
+    if "im_level" not in ds.dims:
+        raise UserError(f"{case}: not an IDA (give an [ida] table, or study.im and study.im_level)")
+    limits = json.loads(ds.attrs.get("limit_states", '["collapse"]'))
+    _print_fragility(ds.pounding.fragility(limits))
+    store_dir = ds.attrs.get("store", "")
+    typer.echo(f"  {time.monotonic() - start:.1f} s; written {output} (runs in {store_dir})")
+
+
+def _print_fragility(fr: Any) -> None:
+    """One line per limit state and variant: median [g] (interval), β, ratio to no contact."""
+    import itertools
+    import math
+
+    variants = [d for d in fr["fragility_median"].dims if d != "limit_state"]
+    label = fr.attrs.get("im_label", "intensity")
+    ci = "fragility_median_low" in fr
+    who = fr.attrs.get("building", "any")
+    typer.echo(
+        f"  fragility ({'any building' if who == 'any' else 'building ' + who}; {label} in g; "
+        f"{fr.attrs.get('method', '')})"
+    )
+    head = "".join(f"{d:<12s}" for d in variants)
+    ratio = "pounding_median_ratio" in fr
+    typer.echo(
+        f"  {'limit state':<14s}{head}{'median [g]':<12s}"
+        + (f"{'interval':<18s}" if ci else "")
+        + f"{'β':<8s}"
+        + ("with/without contact" if ratio else "")
+    )
+    for limit in fr["limit_state"].values:
+        sel = fr.sel(limit_state=limit)
+        for index in itertools.product(*(range(sel.sizes[d]) for d in variants)):
+            at = dict(zip(variants, index, strict=True))
+            one = sel.isel(at)
+            names = "".join(f"{str(sel[d].values[i]):<12s}" for d, i in at.items())
+            theta = float(one["fragility_median"])
+            if not math.isfinite(theta):
+                note = str(one["fit_note"].values)
+                typer.echo(f"  {str(limit):<14s}{names}no fit: {note}")
+                continue
+            line = f"  {str(limit):<14s}{names}{theta:<12.3g}"
+            if ci:
+                lo, hi = float(one["fragility_median_low"]), float(one["fragility_median_high"])
+                line += f"{f'{lo:.3g}-{hi:.3g}':<18s}"
+            line += f"{float(one['fragility_beta']):<8.2f}"
+            if ratio:
+                line += f"{float(one['pounding_median_ratio']):.3f}"
+            typer.echo(line.rstrip())
+
+
+_LIMIT_STATE = typer.Option(
+    None,
+    "--limit-state",
+    "-l",
+    help="collapse, or a story drift ratio such as 0.015 (repeatable; default: the IDA's).",
+)
+
+
+@app.command()
+@user_errors
+def fragility(
+    result: str = typer.Argument(..., help="An IDA result (pounding ida -o)."),
+    limit_state: list[str] = _LIMIT_STATE,
+    building: str = typer.Option(None, help="Whose limit state (default: any building's)."),
+    method: str = typer.Option("stripes", help="stripes (binomial likelihood) or ida."),
+    bootstrap: int = typer.Option(
+        0, help="Bootstrap resamples for 90 % intervals of the median and β (e.g. 1000)."
+    ),
+    output: str = typer.Option(
+        None, "-o", "--output", help="Write the fits (.nc) or the curves (.png, .pdf, .svg)."
+    ),
+) -> None:
+    """Fit lognormal fragility curves to an IDA: median and β per limit state and variant."""
+    import json
+
+    from pounding.results import open_result, save
+
+    ds = open_result(result)
+    limits: list[str | float] = []
+    for value in limit_state or json.loads(ds.attrs.get("limit_states", '["collapse"]')):
+        try:
+            limits.append(value if value == "collapse" else float(value))
+        except ValueError:
+            raise UserError(
+                f"--limit-state {value!r}; allowed: collapse or a story drift ratio (0.015)"
+            ) from None
+    fr = ds.pounding.fragility(limits, building=building, method=method, n_boot=bootstrap)
+    _print_fragility(fr)
+    if output:
+        suffix = output.rsplit(".", 1)[-1].lower() if "." in output else ""
+        if suffix in ("png", "pdf", "svg"):
+            from pounding import plots
+
+            plots.fragility_curves(fr).savefig(output, dpi=150, bbox_inches="tight")
+        elif suffix == "nc":
+            save(fr, output)
+        else:
+            raise UserError(f"-o {output!r}; allowed: a .nc, .png, .pdf or .svg file")
+        typer.echo(f"written {output}")
 
 
 @app.command()

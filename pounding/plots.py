@@ -857,3 +857,45 @@ def pounding_probability(ds: xr.Dataset) -> Figure:
         ax.legend(fontsize=7)
     axes[0, 0].set_ylabel(label(ds["pounding_probability"], "probability of pounding"))
     return fig
+
+
+# --------------------------------------------------------------------------------------------------
+# Fragility (incremental dynamic / multiple-stripe analysis)
+# --------------------------------------------------------------------------------------------------
+
+
+def fragility_curves(fr: xr.Dataset) -> Figure:
+    """Fitted lognormal fragility curves (lines) over the observed fraction of the records that
+    reached each limit state at each intensity level (markers), one panel per limit state and one
+    colour per variant (the combinations of the other axes), with the bootstrap band when the fit
+    has one. ``fr`` from ``ds.pounding.fragility(...)``."""
+    limits = [str(v) for v in fr["limit_state"].values]
+    fig, axes = _figure(3.4, ncols=len(limits))
+    levels = fr["im_level"].values.astype(float)
+    variants = [d for d in fr["fragility_median"].dims if d != "limit_state"]
+    combos = list(np.ndindex(*(fr.sizes[d] for d in variants))) if variants else [()]
+    for ax, limit in zip(axes[0], limits, strict=False):
+        sel = fr.sel(limit_state=limit)
+        for j, index in enumerate(combos):
+            at = {d: i for d, i in zip(variants, index, strict=True)}
+            one = sel.isel(at)
+            name = ", ".join(f"{d} {sel[d].values[i]}" for d, i in at.items()) or "all runs"
+            theta, beta = float(one["fragility_median"]), float(one["fragility_beta"])
+            color = f"C{j}"
+            ax.plot(levels, one["reached_fraction"].values, "o", ms=3.5, color=color)
+            if np.isfinite(theta):
+                ax.plot(fr["im"].values, one["probability"].values, color=color, lw=1.2,
+                        label=f"{name}: θ = {theta:.3g} g, β = {beta:.2g}")  # fmt: skip
+                if "probability_low" in one:
+                    ax.fill_between(fr["im"].values, one["probability_low"].values,
+                                    one["probability_high"].values, color=color, alpha=0.15,
+                                    lw=0)  # fmt: skip
+            else:
+                ax.plot([], [], "o", color=color, label=f"{name}: no fit")
+        ax.set_title(limit, fontsize="small")
+        ax.set_xlabel(f"{fr.attrs.get('im_label', 'intensity')} [g]")
+        ax.set_ylim(-0.02, 1.02)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize="x-small", loc="lower right")
+    axes[0, 0].set_ylabel("probability of reaching the limit state")
+    return fig

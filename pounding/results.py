@@ -225,6 +225,25 @@ class PoundingAccessor:
         out.attrs = {"title": ds.attrs.get("title", ""), "pooled_over": over}
         return out
 
+    def fragility(
+        self,
+        limit_state: str | float | list[str | float] = "collapse",
+        *,
+        building: str | None = None,
+        method: str = "stripes",
+        n_boot: int = 0,
+        level: float = 0.9,
+    ) -> xr.Dataset:
+        """Lognormal fragility of a study with ``im_level`` stripes
+        (:func:`pounding.fragility.study_fragility`): per limit state (``"collapse"`` or a story
+        drift ratio) and combination of the other axes, the median [g] and β, the fraction of the
+        records reaching it per level and the median ratio with/without contact."""
+        from pounding.fragility import study_fragility
+
+        return study_fragility(
+            self._ds, limit_state, building=building, method=method, n_boot=n_boot, level=level
+        )
+
 
 # the schema's dimension order (pounding._schema.summary indexes by position)
 _DIM_ORDER = ("time", "building", "floor", "story", "contact", "term", "mode", "impact")

@@ -29,6 +29,7 @@ _AXIS_ATTRS: dict[str, dict[str, str]] = {
     "k": {"units": "N/m^n", "long_name": "contact stiffness (every contact)"},
     "record": {"long_name": "ground motion record"},
     "scale": {"units": "1", "long_name": "record scale factor"},
+    "im_level": {"units": "g", "long_name": "target intensity of the scaled records"},
 }
 # Units of dotted-path axes, by their last key.
 _PATH_UNITS = {
@@ -347,6 +348,9 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
     for name in names:
         _, values, attrs = _axis_coord(name, study.axes[name])
         coords[name] = (name, values, attrs)
+    if study.im is not None:
+        coords["im_level"][2]["long_name"] = f"target {study.im.label.removesuffix(' [g]')}"
+        data["scale_factor"] = _scale_factors(study)
     coords.update(
         building=("building", np.array(buildings, dtype=object).astype(str), ATTRS["building"]),
         floor=("floor", np.arange(1, width + 1), ATTRS["floor"]),
@@ -390,11 +394,24 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         keep_histories=int(study.keep_histories),
         store=str(plan.store.resolve()),
         analysis=json.dumps(dataclasses.asdict(study.case.analysis), default=str),
+        intensity_measure=json.dumps(study.im.to_dict() if study.im else {}),
+        limit_states=json.dumps(list(study.limit_states)),
         pounding_version=__version__,
         created=datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         Conventions="CF-1.8",
     )
     return ds
+
+
+def _scale_factors(study: Study) -> tuple:
+    """(record, im_level) factors that bring each record to each target intensity."""
+    recs, levels = study.axes["record"], study.axes["im_level"]
+    out = np.full((len(recs), len(levels)), np.nan)
+    for i, rec in enumerate(recs):
+        if rec.motion is not None:
+            out[i] = [study.scale_factor(rec, level) for level in levels]
+    attrs = {"units": "1", "long_name": "record scale factor to the target intensity"}
+    return ("record", "im_level"), out, attrs
 
 
 def histories(ds: xr.Dataset, store: str | Path | None = None, **selection: Any) -> xr.Dataset:

@@ -17,12 +17,17 @@ from pounding import records
 from pounding._version import __version__
 from pounding.case import Case, CaseError, case_from_dict, read_case_file
 from pounding.contact.laws import get_contact_law
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
+from pounding.intensity import MEASURES, IntensityMeasure
+from pounding.units import G
 
 #: Axes with a meaning of their own; any other axis is a dotted path into the case.
-NAMED_AXES = ("law", "gap", "e", "k", "record", "scale")
+NAMED_AXES = ("law", "gap", "e", "k", "record", "scale", "im_level")
 #: Keys of ``[study]`` that are options, not axes.
-STUDY_OPTIONS = ("law_params", "keep_histories", "history_dt")
+STUDY_OPTIONS = ("law_params", "keep_histories", "history_dt", "im", "limit_states")
+#: Keys of an ``im`` table beside ``measure``.
+IM_KEYS = ("building", "period", "period_low", "period_high", "n_periods", "damping")
 #: The ``law`` value that removes every contact (the no-contact baseline).
 NO_CONTACT = "none"
 #: Keys a ``[study.law_params.LAW]`` table may set.
@@ -73,6 +78,15 @@ class Study:
     source: str = "case"
     # True when the ground motion is defined per run by the case (ground_motion.* axes)
     motion_from_case: bool = False
+    #: the intensity measure of the ``im_level`` axis (records scaled to each level)
+    im: IntensityMeasure | None = None
+    #: limit states for the fragility of an IDA: "collapse" or story drift ratios
+    limit_states: tuple[str | float, ...] = ("collapse",)
+
+    def scale_factor(self, record: Record, level: float) -> float:
+        """The factor that brings ``record`` to intensity ``level`` [g] of :attr:`im`."""
+        assert self.im is not None
+        return self.im.scale_factor(record.motion, level * G)  # type: ignore[arg-type]
 
     @property
     def title(self) -> str:
@@ -193,6 +207,10 @@ def study_from_dict(
     """Build a :class:`Study` from a parsed case mapping that has a ``[study]`` table."""
     data = copy.deepcopy(dict(data))
     base_dir = None if base_dir is None else Path(base_dir)
+    if "ida" in data:
+        if "study" in data:
+            raise StudyError(f"{source}: give [ida] or [study], not both")
+        data["study"] = _ida_as_study(data.pop("ida"), source)
     spec = data.pop("study", None)
     if not isinstance(spec, Mapping) or not spec:
         raise StudyError(f"{source}: no [study] table (see the README for its axes)")
@@ -241,6 +259,17 @@ def study_from_dict(
         raise StudyError(f"{source}: study.e values {axes['e']}; allowed: 0 < e <= 1")
     _check_number("k", axes.get("k", ()), source, 0.0, "a number > 0 [N/m^n]")
     _check_number("scale", axes.get("scale", ()), source, -math.inf, "a finite number")
+    _check_number("im_level", axes.get("im_level", ()), source, 0.0, "a number > 0 [g]")
+    if ("im_level" in axes) != ("im" in spec):
+        raise StudyError(
+            f"{source}: study.im_level (target intensities [g]) and study.im (the intensity "
+            f"measure: {', '.join(MEASURES)}) go together"
+        )
+    if "im_level" in axes and "scale" in axes:
+        raise StudyError(
+            f"{source}: study.im_level scales each record to the levels; it cannot be combined "
+            "with study.scale (a fixed factor)"
+        )
     paths = [a for a in axes if a not in NAMED_AXES]
     for path in paths:
         head = path.split(".")[0]
@@ -250,10 +279,10 @@ def study_from_dict(
                 "dotted path into building, contact, ground_motion or analysis (e.g. contact.0.k)"
             )
     motion_from_case = any(p.startswith("ground_motion.") for p in paths)
-    if motion_from_case and ("record" in axes or "scale" in axes):
+    if motion_from_case and ("record" in axes or "scale" in axes or "im_level" in axes):
         raise StudyError(
-            f"{source}: study axes ground_motion.* cannot be combined with record or scale "
-            "(sweep one or the other)"
+            f"{source}: study axes ground_motion.* cannot be combined with record, scale or "
+            "im_level (sweep one or the other)"
         )
     if "record" in axes and "ground_motion" not in data:
         data["ground_motion"] = dict(_PLACEHOLDER_MOTION)
@@ -279,8 +308,76 @@ def study_from_dict(
         base_dir=base_dir,
         source=source,
         motion_from_case=motion_from_case,
+        im=_intensity_measure(spec["im"], base, source) if "im" in spec else None,
+        limit_states=_limit_states(spec.get("limit_states", ["collapse"]), source),
     )
     return study
+
+
+#: Keys of an ``[ida]`` table beside the study's axes and options.
+IDA_KEYS = ("im", "levels", "records")
+
+
+def _limit_states(value: Any, source: str) -> tuple[str | float, ...]:
+    """``limit_states = ["collapse", 0.005, 0.015]``: collapse or story drift ratios."""
+    values = value if isinstance(value, list) else [value]
+    for v in values:
+        ok = v == "collapse" or (
+            isinstance(v, int | float) and not isinstance(v, bool) and 0.0 < v < 10.0
+        )
+        if not ok:
+            raise StudyError(
+                f'{source}: limit_states value {v!r}; allowed: "collapse" or a story drift '
+                "ratio > 0 (e.g. 0.015 for 1.5 %)"
+            )
+    if not values:
+        raise StudyError(f'{source}: limit_states is empty; allowed: a list such as ["collapse"]')
+    return tuple(values)
+
+
+def _ida_as_study(ida: Any, source: str) -> dict[str, Any]:
+    """``[ida]`` (im, levels [g], records, the variants as study axes) as a ``[study]`` table with
+    the ``im_level`` and ``record`` axes."""
+    if not isinstance(ida, Mapping):
+        raise StudyError(f"{source}: [ida] must be a table (im, levels, records, variants)")
+    for key in ("levels", "records"):
+        if key not in ida:
+            raise StudyError(
+                f"{source}: ida.{key} is missing; [ida] needs im (default sa), levels (target "
+                "intensities [g]) and records (a suite or a list of references)"
+            )
+    spec = {k: v for k, v in ida.items() if k not in IDA_KEYS}
+    spec["im"] = ida.get("im", "sa")
+    spec["im_level"] = ida["levels"]
+    records = ida["records"]
+    spec["record"] = [records] if isinstance(records, str) else records
+    return spec
+
+
+def _intensity_measure(value: Any, case: Case, source: str) -> IntensityMeasure:
+    """``im = "sa"`` or ``im = { measure = "sa", building = "A" }``: Sa at the named building's T1
+    (default: the longest T1 of the case's buildings); ``sa_avg`` from 0.2 to 3 times the
+    buildings' T1 unless ``period_low``/``period_high`` are given."""
+    table = {"measure": value} if isinstance(value, str) else value
+    if not isinstance(table, Mapping) or "measure" not in table:
+        raise StudyError(
+            f"{source}: study.im = {value!r}; allowed: {', '.join(MEASURES)}, or a table "
+            '{ measure = "sa", building = "A" } (keys: ' + ", ".join(IM_KEYS) + ")"
+        )
+    options = {k: v for k, v in table.items() if k != "measure"}
+    unknown = sorted(set(options) - set(IM_KEYS))
+    if unknown:
+        raise StudyError(f"{source}: study.im.{unknown[0]}: unknown; allowed: {', '.join(IM_KEYS)}")
+    buildings = case.system.buildings
+    names = [b.name for b in buildings]
+    name = options.pop("building", None)
+    if name is not None and name not in names:
+        raise StudyError(f"{source}: study.im.building = {name!r}; allowed: {', '.join(names)}")
+    periods = [float(b.modal().periods[0]) for b in buildings if name is None or b.name == name]
+    try:
+        return IntensityMeasure.for_periods(str(table["measure"]), periods, **options)
+    except PoundingInputError as exc:
+        raise StudyError(f"{source}: study.im: {exc}") from None
 
 
 def load_study(path: str | Path) -> Study:

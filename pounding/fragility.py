@@ -1,0 +1,461 @@
+r"""Lognormal fragility functions fitted to collapse (or limit-state) data [1]_.
+
+P(LS | IM = x) = Φ(ln(x/θ)/β), θ the median capacity (in the units of the intensity given) and β
+the dispersion (the standard deviation of ln capacity).
+
+Fits:
+
+* **IDA** (a capacity x_i per record, the lowest intensity at which it reached the limit state):
+  ln θ = mean(ln x_i), β = std(ln x_i, ddof = 1) (the method of moments). When n − m records never
+  reached it up to x_max (right-censored, a truncated IDA), θ and β maximise
+
+  .. math:: \sum_{\mathrm{reached}} \ln\frac{\phi(\ln(x_i/θ)/β)}{β x_i}
+            + (n - m)\ln[1 - Φ(\ln(x_\max/θ)/β)].
+
+* **Stripes** (multiple-stripe analysis: z_j of n_j records reach it at intensity x_j): θ and β
+  maximise the binomial likelihood [1]_
+
+  .. math:: \sum_j \ln\binom{n_j}{z_j} + z_j \ln p_j + (n_j - z_j)\ln(1 - p_j),
+            \qquad p_j = Φ(\ln(x_j/θ)/β).
+
+  The maximisation is over (ln θ, ln β) (Nelder-Mead from the moments of the stripes, then a
+  Newton polish), so θ, β > 0.
+
+* **Bootstrap** confidence intervals: records resampled with replacement (IDA), or the stripes'
+  counts redrawn from Bin(n_j, p̂_j) (parametric), refitted ``n_boot`` times; percentile intervals
+  of θ and β and a pointwise band of the fragility curve.
+
+References
+----------
+.. [1] Baker, J.W. (2015). Efficient analytical fragility function fitting using dynamic structural
+   analysis. Earthquake Spectra 31(1), 579-599. doi:10.1193/021113EQS025M
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from pounding.errors import PoundingInputError
+
+#: Fit methods, as recorded in :attr:`Fragility.method`.
+METHODS = ("moments", "truncated_mle", "stripes_mle")
+
+
+def _phi(x: np.ndarray) -> np.ndarray:
+    """Standard normal CDF Φ."""
+    from scipy.special import ndtr
+
+    return ndtr(x)
+
+
+@dataclass(frozen=True)
+class Fragility:
+    """A fitted lognormal fragility function.
+
+    Attributes
+    ----------
+    median : float
+        θ, the intensity at 50 % probability (units of the data).
+    beta : float
+        β, the lognormal dispersion.
+    method : str
+        A name of :data:`METHODS`.
+    n : int
+        Records (IDA) or analyses (stripes) the fit rests on.
+    median_ci, beta_ci : (float, float) or None
+        Bootstrap percentile interval (level ``ci_level``), once :func:`bootstrap` ran.
+    """
+
+    median: float
+    beta: float
+    method: str
+    n: int
+    median_ci: tuple[float, float] | None = None
+    beta_ci: tuple[float, float] | None = None
+    ci_level: float | None = None
+    samples: np.ndarray | None = field(default=None, repr=False, compare=False)
+
+    def probability(self, im: float | np.ndarray) -> np.ndarray:
+        """P(limit state | IM = im) = Φ(ln(im/θ)/β)."""
+        x = np.asarray(im, dtype=float)
+        with np.errstate(divide="ignore"):
+            return _phi(np.log(x / self.median) / self.beta)
+
+    def band(self, im: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pointwise bootstrap band (lower, upper) of the probability at ``im``."""
+        if self.samples is None or self.ci_level is None:
+            raise PoundingInputError("fragility band: run bootstrap() on the fit first")
+        x = np.atleast_1d(np.asarray(im, dtype=float))
+        with np.errstate(divide="ignore"):
+            p = _phi(np.log(x[None, :] / self.samples[:, :1]) / self.samples[:, 1:])
+        tail = 50.0 * (1.0 - self.ci_level)
+        return np.percentile(p, tail, axis=0), np.percentile(p, 100.0 - tail, axis=0)
+
+    def to_dict(self) -> dict[str, object]:
+        out: dict[str, object] = {
+            "median": self.median,
+            "beta": self.beta,
+            "method": self.method,
+            "n": self.n,
+        }
+        if self.median_ci is not None:
+            out.update(median_ci=list(self.median_ci), beta_ci=list(self.beta_ci or ()))
+            out["ci_level"] = self.ci_level
+        return out
+
+
+def _values(x: Sequence[float] | np.ndarray, field: str) -> np.ndarray:
+    a = np.asarray(x, dtype=float).ravel()
+    if a.size == 0:
+        raise PoundingInputError(f"{field}: no values; allowed: intensities > 0")
+    bad = np.flatnonzero(~(a > 0.0) | np.isnan(a))
+    if bad.size:
+        raise PoundingInputError(
+            f"{field}[{int(bad[0])}] = {float(a[bad[0]])!r}; allowed: intensities > 0 (inf: not reached)"
+        )
+    return a
+
+
+def fit_ida(
+    capacities: Sequence[float] | np.ndarray, censored_above: float | None = None
+) -> Fragility:
+    """Fit to one capacity per record (the IM at which it reached the limit state); ``inf`` for a
+    record that had not reached it at ``censored_above``, the largest intensity analysed (then the
+    truncated-IDA likelihood is maximised)."""
+    x = _values(capacities, "capacities")
+    reached = np.isfinite(x)
+    m = int(reached.sum())
+    if m < 2:
+        raise PoundingInputError(
+            f"fit_ida: {m} of {x.size} records reached the limit state; allowed: at least 2"
+        )
+    if m == x.size:
+        ln = np.log(x)
+        return Fragility(float(np.exp(ln.mean())), float(ln.std(ddof=1)), "moments", x.size)
+    if censored_above is None or not math.isfinite(censored_above) or censored_above <= 0.0:
+        raise PoundingInputError(
+            f"fit_ida: {x.size - m} record(s) did not reach the limit state; give censored_above "
+            "(the largest intensity analysed, > 0)"
+        )
+    if np.any(x[reached] > censored_above):
+        raise PoundingInputError("fit_ida: a capacity exceeds censored_above")
+    ln_x = np.log(x[reached])
+    ln_max = math.log(censored_above)
+    n_out = x.size - m
+
+    def nll(q: np.ndarray) -> float:
+        from scipy.special import log_ndtr
+
+        mu, beta = q[0], math.exp(q[1])
+        r = (ln_x - mu) / beta
+        ll = np.sum(-0.5 * r * r - math.log(beta) - ln_x) + n_out * log_ndtr(-(ln_max - mu) / beta)
+        return -float(ll)
+
+    mu, beta = _maximise(nll, ln_x.mean(), ln_x.std(ddof=1) if m > 1 else 0.5)
+    return Fragility(math.exp(mu), beta, "truncated_mle", x.size)
+
+
+def fit_stripes(
+    levels: Sequence[float] | np.ndarray,
+    analyses: Sequence[int] | np.ndarray,
+    reached: Sequence[int] | np.ndarray,
+) -> Fragility:
+    """Fit to stripes: at intensity ``levels[j]``, ``reached[j]`` of ``analyses[j]`` records
+    reached the limit state (binomial maximum likelihood)."""
+    x = _values(levels, "levels")
+    n = np.asarray(analyses, dtype=float).ravel()
+    z = np.asarray(reached, dtype=float).ravel()
+    if not (x.size == n.size == z.size):
+        raise PoundingInputError(
+            f"fit_stripes: {x.size} levels, {n.size} analysis counts, {z.size} reached counts; "
+            "allowed: one of each per stripe"
+        )
+    if np.any(~np.isfinite(x)) or np.any(n < 1) or np.any(z < 0) or np.any(z > n):
+        raise PoundingInputError(
+            "fit_stripes: allowed: finite levels > 0, analyses ≥ 1, 0 ≤ reached ≤ analyses"
+        )
+    if not (z.sum() > 0 and (n - z).sum() > 0):
+        raise PoundingInputError(
+            "fit_stripes: every analysis reached the limit state, or none did; the median is "
+            "outside the stripes (allowed: some of each)"
+        )
+    ln_x = np.log(x)
+    from scipy.special import log_ndtr
+
+    def nll(q: np.ndarray) -> float:
+        r = (ln_x - q[0]) / math.exp(q[1])
+        return -float(np.sum(z * log_ndtr(r) + (n - z) * log_ndtr(-r)))
+
+    # start: the levels weighted by the fraction reached at each stripe
+    w = z / n
+    mu0 = float(np.sum(ln_x * np.gradient(w))) if x.size > 1 and np.ptp(w) > 0 else ln_x.mean()
+    mu, beta = _maximise(nll, mu0, max(0.3, float(np.std(ln_x))))
+    return Fragility(math.exp(mu), beta, "stripes_mle", int(n.sum()))
+
+
+def _maximise(nll, mu0: float, beta0: float) -> tuple[float, float]:
+    """Minimise nll over (ln θ, ln β): Nelder-Mead from the start, then BFGS to polish."""
+    from scipy.optimize import minimize
+
+    start = np.array([mu0, math.log(max(beta0, 1e-3))])
+    first = minimize(nll, start, method="Nelder-Mead", options=dict(xatol=1e-10, fatol=1e-12))
+    best = minimize(nll, first.x, method="BFGS", options=dict(gtol=1e-10))
+    q = best.x if best.fun <= first.fun else first.x
+    if not np.all(np.isfinite(q)):
+        raise PoundingInputError("fragility fit did not converge")
+    return float(q[0]), float(math.exp(q[1]))
+
+
+def bootstrap(
+    fit: Fragility,
+    capacities: Sequence[float] | np.ndarray | None = None,
+    *,
+    censored_above: float | None = None,
+    stripes: tuple[Sequence[float], Sequence[int], Sequence[int]] | None = None,
+    n_boot: int = 1000,
+    level: float = 0.9,
+    seed: int = 0,
+) -> Fragility:
+    """The fit with bootstrap percentile intervals of θ and β (``level``, default 90 %): records
+    resampled with replacement (``capacities``, as given to :func:`fit_ida`), or each stripe's
+    count redrawn from Bin(n_j, p̂_j) (``stripes`` = (levels, analyses, reached))."""
+    if not (isinstance(n_boot, int) and n_boot >= 10):
+        raise PoundingInputError(f"n_boot = {n_boot!r}; allowed: an integer ≥ 10")
+    if not 0.0 < level < 1.0:
+        raise PoundingInputError(f"level = {level!r}; allowed: 0 < level < 1")
+    if (capacities is None) == (stripes is None):
+        raise PoundingInputError("bootstrap: give capacities (IDA) or stripes, one of them")
+    rng = np.random.default_rng(seed)
+    out = np.empty((n_boot, 2))
+    k = 0
+    if capacities is not None:
+        x = _values(capacities, "capacities")
+        while k < n_boot:
+            sample = x[rng.integers(0, x.size, x.size)]
+            try:
+                f = fit_ida(sample, censored_above)
+            except PoundingInputError:  # fewer than two reached in this resample
+                continue
+            out[k] = f.median, f.beta
+            k += 1
+    else:
+        levels, analyses, _ = (np.asarray(s, dtype=float) for s in stripes)  # type: ignore[union-attr]
+        p = fit.probability(levels)
+        n = analyses.astype(int)
+        while k < n_boot:
+            z = rng.binomial(n, p)
+            try:
+                f = fit_stripes(levels, n, z)
+            except PoundingInputError:  # all or none reached in this draw
+                continue
+            out[k] = f.median, f.beta
+            k += 1
+    tail = 50.0 * (1.0 - level)
+    lo, hi = np.percentile(out, [tail, 100.0 - tail], axis=0)
+    return replace(
+        fit,
+        median_ci=(float(lo[0]), float(hi[0])),
+        beta_ci=(float(lo[1]), float(hi[1])),
+        ci_level=level,
+        samples=out,
+    )
+
+
+# --------------------------------------------------------------------------------------------------
+# Fragility of a study with an im_level axis (incremental dynamic / multiple-stripe analysis)
+# --------------------------------------------------------------------------------------------------
+
+#: The limit state that is the analysis' own collapse (story drift past ``collapse_drift``, a
+#: Newton failure past it, or a story whose deterioration capacity is spent and then collapses).
+COLLAPSE = "collapse"
+
+
+def _limit_label(limit: str | float) -> str:
+    return COLLAPSE if limit == COLLAPSE else f"drift {100 * float(limit):g} %"
+
+
+def _exceeded(ds, limit: str | float, building: str | None):
+    """Per run (True/False; NaN for a failed run): the limit state reached by ``building`` (any
+    building when None). A collapsed run exceeds every drift limit."""
+    import xarray as xr
+
+    if limit == COLLAPSE:
+        hit = np.isfinite(ds["collapse_time"]) if "collapse_time" in ds else None
+        if hit is None:
+            raise PoundingInputError(
+                "fragility(limit_state='collapse'): the study has no collapse_time (no building "
+                "with yielding stories or P-Δ)"
+            )
+    else:
+        if isinstance(limit, bool) or not isinstance(limit, int | float) or not 0 < limit < 10:
+            raise PoundingInputError(
+                f"limit_state = {limit!r}; allowed: 'collapse' or a story drift ratio, e.g. 0.015"
+            )
+        hit = ds["peak_drift_ratio"].max("story") >= float(limit)
+        if "collapse_time" in ds:
+            hit = hit | np.isfinite(ds["collapse_time"])
+    if building is not None:
+        names = [str(b) for b in ds["building"].values]
+        if building not in names:
+            raise PoundingInputError(f"building = {building!r}; allowed: {', '.join(names)}")
+        hit = hit.sel(building=building)
+    else:
+        hit = hit.any("building")
+    ok = ds["run_status"] == "ok" if "run_status" in ds else xr.ones_like(hit, bool)
+    return hit.astype(float).where(ok)
+
+
+def study_fragility(
+    ds,
+    limit_state: str | float | Sequence[str | float] = COLLAPSE,
+    *,
+    building: str | None = None,
+    method: str = "stripes",
+    n_boot: int = 0,
+    level: float = 0.9,
+):
+    """Lognormal fragility of each limit state for every combination of a study's other axes
+    (law, gap, ...), from its ``im_level`` stripes and ``record`` axis.
+
+    ``limit_state``: ``"collapse"`` or a story drift ratio (0.015 = 1.5 %), or a list of them;
+    ``building``: whose limit state (default: any building's). ``method``: ``"stripes"`` (binomial
+    maximum likelihood over the levels) or ``"ida"`` (each record's capacity is the lowest level at
+    which it reached the limit state; records that never did are censored at the highest level).
+    ``n_boot`` > 0 adds bootstrap percentile intervals (``level``). Returns a Dataset with
+    ``fragility_median`` [g], ``fragility_beta``, their intervals (``_low``, ``_high``), the
+    observed ``reached_fraction`` of the records per level, ``fit_note`` (why a fit is missing)
+    and, when the study has the no-contact law, ``pounding_median_ratio`` (median with contact /
+    without: below 1 pounding lowers the capacity)."""
+    import xarray as xr
+
+    if "im_level" not in ds.dims or "record" not in ds.dims:
+        raise PoundingInputError(
+            "fragility() needs a study Dataset with im_level and record axes (study.im, "
+            "study.im_level: records scaled to target intensities)"
+        )
+    if method not in ("stripes", "ida"):
+        raise PoundingInputError(f"method = {method!r}; allowed: stripes, ida")
+    limits = [limit_state] if isinstance(limit_state, str | int | float) else list(limit_state)
+    levels = ds["im_level"].values.astype(float)
+    others = [d for d in ds["run_status"].dims if d not in ("record", "im_level")]
+    labels = [_limit_label(v) for v in limits]
+    shape = (len(limits), *(ds.sizes[d] for d in others))
+    med, beta = np.full(shape, np.nan), np.full(shape, np.nan)
+    lo, hi = np.full(shape, np.nan), np.full(shape, np.nan)
+    b_lo, b_hi = np.full(shape, np.nan), np.full(shape, np.nan)
+    fraction = np.full((*shape, levels.size), np.nan)
+    grid = np.linspace(0.0, 1.15 * float(levels.max()), 116)[1:]
+    curve = np.full((*shape, grid.size), np.nan)
+    band_lo, band_hi = np.full_like(curve, np.nan), np.full_like(curve, np.nan)
+    notes = np.full(shape, "", dtype=object)
+    for i, limit in enumerate(limits):
+        hit = _exceeded(ds, limit, building).transpose(*others, "im_level", "record")
+        for index in np.ndindex(*shape[1:]):
+            runs = hit.values[index]  # (im_level, record)
+            n = np.sum(np.isfinite(runs), axis=1)
+            z = np.nansum(runs, axis=1)
+            with np.errstate(invalid="ignore"):
+                fraction[(i, *index)] = np.where(n > 0, z / np.maximum(n, 1), np.nan)
+            try:
+                if method == "stripes":
+                    use = n > 0
+                    fit = fit_stripes(levels[use], n[use], z[use])
+                    if n_boot:
+                        fit = bootstrap(
+                            fit, stripes=(levels[use], n[use], z[use]), n_boot=n_boot, level=level
+                        )
+                else:
+                    cap = np.full(runs.shape[1], np.inf)
+                    for r in range(runs.shape[1]):
+                        reached = np.flatnonzero(runs[:, r] == 1.0)
+                        if reached.size:
+                            cap[r] = levels[reached[0]]
+                    fit = fit_ida(cap, censored_above=float(levels.max()))
+                    if n_boot:
+                        fit = bootstrap(
+                            fit, cap, censored_above=float(levels.max()), n_boot=n_boot,
+                            level=level,
+                        )  # fmt: skip
+            except PoundingInputError as exc:
+                notes[(i, *index)] = str(exc)
+                continue
+            med[(i, *index)], beta[(i, *index)] = fit.median, fit.beta
+            curve[(i, *index)] = fit.probability(grid)
+            if fit.median_ci is not None:
+                band_lo[(i, *index)], band_hi[(i, *index)] = fit.band(grid)
+                lo[(i, *index)], hi[(i, *index)] = fit.median_ci
+                b_lo[(i, *index)], b_hi[(i, *index)] = fit.beta_ci  # type: ignore[misc]
+    dims = ("limit_state", *others)
+    out = xr.Dataset(
+        {
+            "fragility_median": (
+                dims,
+                med,
+                {"units": "g", "long_name": "median capacity θ (fragility)"},
+            ),
+            "fragility_beta": (dims, beta, {"units": "1", "long_name": "lognormal dispersion β"}),
+            "reached_fraction": (
+                (*dims, "im_level"),
+                fraction,
+                {"units": "1", "long_name": "fraction of the records reaching the limit state"},
+            ),
+            "fit_note": (dims, notes.astype(str), {"long_name": "why no fit (empty: fitted)"}),
+            "probability": (
+                (*dims, "im"),
+                curve,
+                {"units": "1", "long_name": "fitted probability of reaching the limit state"},
+            ),
+        },
+        coords={
+            "limit_state": ("limit_state", labels, {"long_name": "limit state"}),
+            **{d: ds[d] for d in others},
+            "im_level": ds["im_level"],
+            "im": (
+                "im",
+                grid,
+                {"units": "g", "long_name": ds["im_level"].attrs.get("long_name", "intensity")},
+            ),
+        },
+    )
+    if n_boot:
+        for name, values, side in (("low", band_lo, "lower"), ("high", band_hi, "upper")):
+            out[f"probability_{name}"] = (
+                (*dims, "im"),
+                values,
+                {"units": "1", "long_name": f"probability, pointwise {level:.0%} band, {side}"},
+            )
+        out["fragility_median_low"] = (
+            dims,
+            lo,
+            {"units": "g", "long_name": f"median, {level:.0%} low"},
+        )
+        out["fragility_median_high"] = (
+            dims,
+            hi,
+            {"units": "g", "long_name": f"median, {level:.0%} high"},
+        )
+        out["fragility_beta_low"] = (dims, b_lo, {"units": "1", "long_name": f"β, {level:.0%} low"})
+        out["fragility_beta_high"] = (
+            dims,
+            b_hi,
+            {"units": "1", "long_name": f"β, {level:.0%} high"},
+        )
+    if "law" in others and "none" in [str(v) for v in ds["law"].values]:
+        ratio = out["fragility_median"] / out["fragility_median"].sel(law="none")
+        out["pounding_median_ratio"] = ratio.assign_attrs(
+            units="1",
+            long_name="median capacity with contact / without (below 1: pounding lowers it)",
+        )
+    out.attrs.update(
+        method="binomial maximum likelihood over the stripes (Baker 2015)"
+        if method == "stripes"
+        else "IDA capacities, truncated-IDA likelihood beyond the highest level (Baker 2015)",
+        building=building or "any",
+        intensity_measure=ds.attrs.get("intensity_measure", ""),
+        im_label=ds["im_level"].attrs.get("long_name", "intensity"),
+    )
+    return out
