@@ -878,8 +878,16 @@ def fragility_curves(fr: xr.Dataset) -> Figure:
         sel = fr.sel(limit_state=limit)
         for j, index in enumerate(combos):
             at = {d: i for d, i in zip(variants, index, strict=True)}
-            one = sel.isel(at)
-            name = ", ".join(f"{d} {sel[d].values[i]}" for d, i in at.items()) or "all runs"
+            if "law" in at and str(sel["law"].values[at["law"]]) == _NO_CONTACT:
+                if any(i for d, i in at.items() if d != "law"):
+                    continue  # without contact the other axes (gap, e, k) change nothing
+                at = {"law": at["law"]}
+            one = sel.isel(at).isel({d: 0 for d in variants if d not in at})
+            parts = []
+            for d, i in at.items():
+                units = str(sel[d].attrs.get("units", ""))
+                parts.append(f"{d} {sel[d].values[i]}{'' if units in ('', '1') else ' ' + units}")
+            name = ", ".join(parts) or "all runs"
             theta, beta = float(one["fragility_median"]), float(one["fragility_beta"])
             color = f"C{j}"
             ax.plot(levels, one["reached_fraction"].values, "o", ms=3.5, color=color)
