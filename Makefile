@@ -17,6 +17,8 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/pounding study examples/demo_study.toml -o reports/demo/results.nc
 	$(BIN)/pounding report reports/demo/results.nc -o reports/demo
+	$(BIN)/pounding ida examples/ida_fragility.toml -o reports/ida/ida.nc
+	$(BIN)/pounding report reports/ida/ida.nc -o reports/ida
 
 # The report tests open the HTML in headless Chromium and read the PDF with poppler-utils (Debian
 # packages chromium, poppler-utils); installed here when missing and apt-get is usable (root).

@@ -183,28 +183,131 @@ def fit_stripes(
             "fit_stripes: every analysis reached the limit state, or none did; the median is "
             "outside the stripes (allowed: some of each)"
         )
+    order = np.argsort(x)
+    w_sorted = (z / n)[order]
+    inner = (w_sorted > 0.0) & (w_sorted < 1.0)
+    outer = w_sorted[~inner]
+    if inner.sum() <= 1 and np.all(np.diff(outer) >= 0.0):
+        at = int(np.argmax(w_sorted > 0.0))
+        if not inner.any() or np.all(w_sorted[at + 1 :] == 1.0):
+            # no stripe, or one, between "none reached" and "all reached": the likelihood grows
+            # as β → 0 (a step at the median), so there is no dispersion to estimate
+            raise PoundingInputError(
+                "fit_stripes: the records go from none to all reaching the limit state between "
+                f"{x[order][max(at - 1, 0)]:g} and {x[order][min(at + 1, x.size - 1)]:g} "
+                "(at most one stripe in between): the dispersion cannot be estimated (β → 0); "
+                "add levels there"
+            )
     ln_x = np.log(x)
     from scipy.special import log_ndtr
 
-    def nll(q: np.ndarray) -> float:
-        r = (ln_x - q[0]) / math.exp(q[1])
-        return -float(np.sum(z * log_ndtr(r) + (n - z) * log_ndtr(-r)))
+    def nll(q: np.ndarray) -> tuple[float, np.ndarray]:
+        # −log-likelihood and its gradient in (ln θ, ln β): dr/d ln θ = −1/β, dr/d ln β = −r
+        beta = math.exp(q[1])
+        r = (ln_x - q[0]) / beta
+        lp, lq = log_ndtr(r), log_ndtr(-r)
+        log_phi = -0.5 * r * r - 0.5 * math.log(2.0 * math.pi)
+        with np.errstate(over="ignore", invalid="ignore"):
+            g = z * np.exp(log_phi - lp) - (n - z) * np.exp(log_phi - lq)
+        return -float(np.sum(z * lp + (n - z) * lq)), np.array([np.sum(g) / beta, np.sum(g * r)])
 
-    # start: the levels weighted by the fraction reached at each stripe
+    # start: a probit line through the stripes strictly between 0 and 1
     w = z / n
-    mu0 = float(np.sum(ln_x * np.gradient(w))) if x.size > 1 and np.ptp(w) > 0 else ln_x.mean()
-    mu, beta = _maximise(nll, mu0, max(0.3, float(np.std(ln_x))))
+    inner = (w > 0.0) & (w < 1.0)
+    if inner.sum() >= 2 and np.ptp(ln_x[inner]) > 0:
+        from scipy.special import ndtri
+
+        slope, icpt = np.polyfit(ln_x[inner], ndtri(w[inner]), 1)
+        if slope > 0.05:  # β below 20
+            mu0, beta0 = -icpt / slope, 1.0 / slope
+        else:
+            mu0, beta0 = float(ln_x[inner].mean()), 0.5
+    else:
+        mu0 = float(np.interp(0.5, np.maximum.accumulate(w), ln_x)) if w[-1] >= 0.5 else ln_x.mean()
+        beta0 = max(0.3, float(np.std(ln_x)))
+    solved = _newton_stripes(ln_x, n, z, float(mu0), float(beta0), nll)
+    mu, beta = solved if solved is not None else _maximise(nll, float(mu0), float(beta0))
     return Fragility(math.exp(mu), beta, "stripes_mle", int(n.sum()))
 
 
+def _newton_stripes(ln_x, n, z, mu0: float, beta0: float, nll) -> tuple[float, float] | None:
+    """Newton's method on the stripes' −log-likelihood in q = (ln θ, ln β) with its exact Hessian
+    and a backtracking line search; None if it does not converge (the caller then optimises
+    generally). With λ1 = φ/Φ(r), λ2 = φ/Φ(−r): ℓ' = z λ1 − (n − z) λ2,
+    ℓ'' = −z λ1 (r + λ1) − (n − z) λ2 (λ2 − r), r = (ln x − ln θ)/β."""
+    from scipy.special import log_ndtr
+
+    q = np.array([mu0, math.log(min(max(beta0, 1e-2), 5.0))])
+    f, g = nll(q)
+    for _ in range(60):
+        if q[1] <= -7.0:  # β below 1e-3: the stripes all but separate, there is no dispersion
+            raise PoundingInputError(
+                "fit_stripes: the dispersion runs to 0 (β < 0.001): the records reach the limit "
+                "state almost all at one level; add levels around it"
+            )
+        if q[1] >= 3.0:  # β above 20: leave it to the bounded search
+            return None
+        beta = math.exp(q[1])
+        r = (ln_x - q[0]) / beta
+        log_phi = -0.5 * r * r - 0.5 * math.log(2.0 * math.pi)
+        with np.errstate(over="ignore"):
+            l1 = np.exp(log_phi - log_ndtr(r))
+            l2 = np.exp(log_phi - log_ndtr(-r))
+        if not (np.all(np.isfinite(l1)) and np.all(np.isfinite(l2))):
+            return None
+        d1 = z * l1 - (n - z) * l2
+        d2 = -z * l1 * (r + l1) - (n - z) * l2 * (l2 - r)
+        h = -np.array(
+            [
+                [np.sum(d2) / beta**2, np.sum(d2 * r + d1) / beta],
+                [np.sum(d2 * r + d1) / beta, np.sum(d2 * r * r + d1 * r)],
+            ]
+        )
+        try:
+            step = np.linalg.solve(h, g)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(step)) or float(step @ g) <= 0.0:
+            step = g  # not a descent direction: steepest descent
+        t = 1.0
+        while t > 1e-8:
+            trial = q - t * step
+            f_new, g_new = nll(trial)
+            if np.isfinite(f_new) and f_new <= f:
+                break
+            t *= 0.5
+        else:
+            return None
+        q, f, g = trial, f_new, g_new
+        if np.max(np.abs(t * step)) < 1e-12 or np.max(np.abs(g)) < 1e-10 * max(1.0, float(n.sum())):
+            return float(q[0]), float(math.exp(q[1]))
+    return None
+
+
 def _maximise(nll, mu0: float, beta0: float) -> tuple[float, float]:
-    """Minimise nll over (ln θ, ln β): Nelder-Mead from the start, then BFGS to polish."""
+    """Minimise nll over (ln θ, ln β). ``nll`` returns the value, or (value, gradient): then BFGS
+    with the gradient from the start, Nelder–Mead (then BFGS) where that fails."""
     from scipy.optimize import minimize
 
-    start = np.array([mu0, math.log(max(beta0, 1e-3))])
-    first = minimize(nll, start, method="Nelder-Mead", options=dict(xatol=1e-10, fatol=1e-12))
-    best = minimize(nll, first.x, method="BFGS", options=dict(gtol=1e-10))
-    q = best.x if best.fun <= first.fun else first.x
+    start = np.array([mu0, math.log(min(max(beta0, 1e-2), 5.0))])
+    jac = isinstance(nll(start), tuple)
+    # β between 1e-3 and 20: a dispersion outside it is no fit (the data separate, or say nothing)
+    bounds = [(None, None), (math.log(1e-3), math.log(20.0))]
+    with np.errstate(all="ignore"):
+        best = minimize(nll, start, method="L-BFGS-B", jac=jac, bounds=bounds,
+                        options=dict(gtol=1e-10, ftol=1e-15, maxiter=200))  # fmt: skip
+        if not best.success:
+            value = (lambda q: nll(q)[0]) if jac else nll
+            first = minimize(value, start, method="Nelder-Mead",
+                             options=dict(xatol=1e-10, fatol=1e-12, maxiter=1000))  # fmt: skip
+            if first.fun < (nll(best.x)[0] if jac else nll(best.x)):
+                best = first
+    q = best.x
+    if not math.log(1e-3) + 1e-9 < q[1] < math.log(20.0) - 1e-9:
+        raise PoundingInputError(
+            f"fragility fit: the dispersion runs to its bound (β = {math.exp(q[1]):.3g}): the "
+            "data do not determine it"
+        )
     if not np.all(np.isfinite(q)):
         raise PoundingInputError("fragility fit did not converge")
     return float(q[0]), float(math.exp(q[1]))
@@ -231,10 +334,12 @@ def bootstrap(
         raise PoundingInputError("bootstrap: give capacities (IDA) or stripes, one of them")
     rng = np.random.default_rng(seed)
     out = np.empty((n_boot, 2))
-    k = 0
+    k = tries = 0
+    budget = 2 * n_boot  # resamples that cannot be fitted (all or none reached) are drawn again
     if capacities is not None:
         x = _values(capacities, "capacities")
-        while k < n_boot:
+        while k < n_boot and tries < budget:
+            tries += 1
             sample = x[rng.integers(0, x.size, x.size)]
             try:
                 f = fit_ida(sample, censored_above)
@@ -246,7 +351,8 @@ def bootstrap(
         levels, analyses, _ = (np.asarray(s, dtype=float) for s in stripes)  # type: ignore[union-attr]
         p = fit.probability(levels)
         n = analyses.astype(int)
-        while k < n_boot:
+        while k < n_boot and tries < budget:
+            tries += 1
             z = rng.binomial(n, p)
             try:
                 f = fit_stripes(levels, n, z)
@@ -254,6 +360,12 @@ def bootstrap(
                 continue
             out[k] = f.median, f.beta
             k += 1
+    if k < n_boot:
+        raise PoundingInputError(
+            f"bootstrap: only {k} of {tries} resamples could be fitted (in the others the "
+            "records step from none to all reaching the limit state): too few records or levels "
+            "for an interval"
+        )
     tail = 50.0 * (1.0 - level)
     lo, hi = np.percentile(out, [tail, 100.0 - tail], axis=0)
     return replace(
@@ -361,28 +473,29 @@ def study_fragility(
             with np.errstate(invalid="ignore"):
                 fraction[(i, *index)] = np.where(n > 0, z / np.maximum(n, 1), np.nan)
             try:
+                use = n > 0
+                cap = np.full(runs.shape[1], np.inf)
                 if method == "stripes":
-                    use = n > 0
                     fit = fit_stripes(levels[use], n[use], z[use])
-                    if n_boot:
-                        fit = bootstrap(
-                            fit, stripes=(levels[use], n[use], z[use]), n_boot=n_boot, level=level
-                        )
                 else:
-                    cap = np.full(runs.shape[1], np.inf)
                     for r in range(runs.shape[1]):
                         reached = np.flatnonzero(runs[:, r] == 1.0)
                         if reached.size:
                             cap[r] = levels[reached[0]]
                     fit = fit_ida(cap, censored_above=float(levels.max()))
-                    if n_boot:
-                        fit = bootstrap(
-                            fit, cap, censored_above=float(levels.max()), n_boot=n_boot,
-                            level=level,
-                        )  # fmt: skip
             except PoundingInputError as exc:
                 notes[(i, *index)] = str(exc)
                 continue
+            if n_boot:
+                try:
+                    if method == "stripes":
+                        stripes = (levels[use], n[use], z[use])
+                        fit = bootstrap(fit, stripes=stripes, n_boot=n_boot, level=level)
+                    else:
+                        top = float(levels.max())
+                        fit = bootstrap(fit, cap, censored_above=top, n_boot=n_boot, level=level)
+                except PoundingInputError as exc:
+                    notes[(i, *index)] = str(exc)
             med[(i, *index)], beta[(i, *index)] = fit.median, fit.beta
             curve[(i, *index)] = fit.probability(grid)
             if fit.median_ci is not None:

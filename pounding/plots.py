@@ -9,6 +9,7 @@ are ``long_name [units]`` of the plotted variable (:func:`label`), as xarray's o
 
 from __future__ import annotations
 
+import json
 import math
 import warnings
 from collections.abc import Sequence
@@ -906,4 +907,50 @@ def fragility_curves(fr: xr.Dataset) -> Figure:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize="x-small", loc="lower right")
     axes[0, 0].set_ylabel("probability of reaching the limit state")
+    return fig
+
+
+def ida_curves(ds: xr.Dataset, building: str | None = None) -> Figure:
+    """IDA curves: the largest peak story drift ratio of a building (or of all buildings) against the
+    target intensity, one thin line per record and the median over the records (thick), one panel
+    per variant (the no-contact variant once); a collapsed run is drawn at the collapse drift."""
+    variants = [d for d in ds["run_status"].dims if d not in ("record", "im_level")]
+    combos = list(np.ndindex(*(ds.sizes[d] for d in variants))) if variants else [()]
+    keep = []
+    for index in combos:
+        at = dict(zip(variants, index, strict=True))
+        if "law" in at and str(ds["law"].values[at["law"]]) == _NO_CONTACT:
+            if any(i for d, i in at.items() if d != "law"):
+                continue
+        keep.append(at)
+    fig, axes = _figure(3.0, ncols=min(len(keep), 3), nrows=math.ceil(len(keep) / 3))
+    drift = ds["peak_drift_ratio"].max("story")
+    drift = drift.sel(building=building) if building else drift.max("building")
+    analysis = json.loads(ds.attrs.get("analysis", "{}"))
+    limit = float(analysis.get("collapse_drift") or 0.1)
+    if "collapse_time" in ds:
+        collapsed = np.isfinite(ds["collapse_time"])
+        collapsed = collapsed.sel(building=building) if building else collapsed.any("building")
+        drift = drift.where(~collapsed, limit)
+    levels = ds["im_level"].values.astype(float)
+    for ax, at in zip(axes.ravel(), keep, strict=False):
+        d = drift.isel(at).transpose("record", "im_level").values * 100.0
+        for row in d:
+            ax.plot(np.concatenate(([0.0], row)), np.concatenate(([0.0], levels)), color="0.6",
+                    lw=0.5)  # fmt: skip
+        ax.plot(np.concatenate(([0.0], np.nanmedian(d, axis=0))), np.concatenate(([0.0], levels)),
+                color="C3", lw=1.8, label="median")  # fmt: skip
+        ax.axvline(100.0 * limit, color="k", ls=":", lw=0.8)
+        parts = []
+        for dim, i in at.items():
+            units = str(ds[dim].attrs.get("units", ""))
+            parts.append(f"{dim} {ds[dim].values[i]}{'' if units in ('', '1') else ' ' + units}")
+        ax.set_title(plain_text(", ".join(parts) or "all runs"), fontsize="small")
+        ax.set_xlabel("peak story drift ratio [%]")
+        ax.grid(True, alpha=0.3)
+    for ax in axes.ravel()[len(keep) :]:
+        ax.set_visible(False)
+    for ax in axes[:, 0]:
+        ax.set_ylabel(f"{ds['im_level'].attrs.get('long_name', 'intensity')} [g]")
+    axes.ravel()[0].legend(fontsize="x-small", loc="lower right")
     return fig

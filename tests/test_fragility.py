@@ -112,6 +112,8 @@ def test_parametric_stripe_bootstrap_brackets_the_fit():
         (lambda: fit_ida([1.0, 2.0, np.inf]), "give censored_above"),
         (lambda: fit_stripes([1.0, 2.0], [10, 10], [10, 10]), "every analysis reached"),
         (lambda: fit_stripes([1.0, 2.0], [10], [1, 2]), "2 levels, 1 analysis counts"),
+        # none, then 2 of 3, then all: the likelihood grows as β → 0 (a step at the median)
+        (lambda: fit_stripes([0.5, 1.0, 1.5], [3, 3, 3], [0, 2, 3]), "dispersion cannot be"),
         (lambda: IntensityMeasure("sa_t1"), "allowed: pga, sa, sa_avg"),
         (lambda: IntensityMeasure("sa"), "period = None; allowed: a number > 0 [s]"),
     ],

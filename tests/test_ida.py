@@ -169,3 +169,21 @@ limit_states = ["collapse", 0.01]
     assert list(fits["limit_state"].values) == ["drift 1 %"]
     bad = runner.invoke(app, ["fragility", str(out), "-l", "yield"])
     assert bad.exit_code == 2 and bad.output.startswith("error: --limit-state 'yield'")
+
+
+def test_fragility_report_leads_with_the_fits_and_shows_the_curves(ida_run, tmp_path):
+    from pounding.report import build_report, write_report
+
+    _, ds = ida_run
+    rep = build_report(ds)
+    assert rep.kind == "fragility"
+    titles = [s.title for s in rep.sections]
+    assert titles[:4] == ["Executive summary", "Fragility curves", "IDA curves", "Analysis"]
+    table = next(b for b in rep.sections[0].blocks if hasattr(b, "rows"))
+    fr = ds.pounding.fragility(["collapse", 0.01])
+    row = next(r for r in table.rows if r[0] == "collapse" and r[1] == "hertz")
+    assert row[2] == f"{float(fr['fragility_median'].sel(limit_state='collapse', law='hertz')):.3g}"
+    written = write_report(ds, tmp_path / "rep")
+    html = (tmp_path / "rep" / "report.html").read_text()
+    assert "Fragility curves" in html and html.count("<svg") >= 3
+    assert [p.name for p in written] == ["report.html", "report.pdf"]

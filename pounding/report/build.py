@@ -14,6 +14,7 @@ import xarray as xr
 from pounding.errors import PoundingInputError
 from pounding.report.analysis import analysis_report
 from pounding.report.document import _RC, FORMATS, Report
+from pounding.report.fragility import fragility_report
 from pounding.report.html import render_html
 from pounding.report.pdf import render_pdf
 from pounding.report.separation import separation_report
@@ -26,7 +27,15 @@ REPORT_BUILDERS: dict[str, Callable[[xr.Dataset, Path | None], Report]] = {
     "analysis": analysis_report,
     "study": study_report,
     "separation": separation_report,
+    "fragility": fragility_report,
 }
+
+
+def report_kind(ds: xr.Dataset) -> str:
+    """The report kind of a result: :func:`pounding.results.result_kind`, and ``"fragility"`` for a
+    study with an ``im_level`` axis (an incremental dynamic analysis)."""
+    kind = result_kind(ds)
+    return "fragility" if kind == "study" and "im_level" in ds.dims else kind
 
 
 def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:
@@ -37,7 +46,7 @@ def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:
     time histories.
     """
     try:
-        kind = result_kind(ds)
+        kind = report_kind(ds)
     except ValueError as exc:
         raise PoundingInputError(f"report: {exc}") from None
     with matplotlib.rc_context(_RC):

@@ -141,7 +141,9 @@ def render_pdf(report: Report, path: str | Path) -> Path:
             w.line(f"{key}: {value}", 8.5)
         w.y -= 0.15
         for n, sec in enumerate(report.sections, 1):
-            w.line(f"{n}. {sec.title}", 13, weight="bold", gap=0.15)
+            if not all(isinstance(b, Plot) for b in sec.blocks):
+                # a section of figures only starts on its figure page (which carries the title)
+                w.line(f"{n}. {sec.title}", 13, weight="bold", gap=0.15)
             figures: list[Plot] = []
             for b in sec.blocks:
                 if isinstance(b, str):

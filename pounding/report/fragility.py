@@ -1,0 +1,185 @@
+"""The report of an incremental dynamic analysis (``pounding ida``): the fragility of each limit
+state with and without pounding (executive summary, curves with bootstrap bands, the fits), the IDA
+curves, the analysis and its assumptions, the model and the records."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from pounding import plots
+from pounding._version import __version__
+from pounding.report.document import _NO_CONTACT, Plot, Report, Section, Table, _g
+from pounding.report.sections import _model_section
+
+#: Bootstrap resamples of the report's fits (90 % intervals).
+N_BOOT = 500
+
+
+def _limit_states(ds: xr.Dataset) -> list[str | float]:
+    return list(json.loads(ds.attrs.get("limit_states", '["collapse"]')))
+
+
+def _variants(fr: xr.Dataset) -> list[dict[str, int]]:
+    """Index selections of the variants, the no-contact one once."""
+    dims = [d for d in fr["fragility_median"].dims if d != "limit_state"]
+    out = []
+    for index in np.ndindex(*(fr.sizes[d] for d in dims)):
+        at = dict(zip(dims, index, strict=True))
+        if "law" in at and str(fr["law"].values[at["law"]]) == _NO_CONTACT:
+            if any(i for d, i in at.items() if d != "law"):
+                continue
+        out.append(at)
+    return out
+
+
+def _name(fr: xr.Dataset, at: dict[str, int]) -> list[str]:
+    cells = []
+    for d, i in at.items():
+        v = fr[d].values[i]
+        if "law" in at and str(fr["law"].values[at["law"]]) == _NO_CONTACT and d != "law":
+            cells.append("–")
+        else:
+            cells.append(f"{v:g}" if isinstance(v, float | np.floating) else str(v))
+    return cells
+
+
+def _fit_table(fr: xr.Dataset) -> Table:
+    variants = _variants(fr)
+    dims = list(variants[0]) if variants else []
+    header = [
+        "limit state",
+        *(f"{d} [{fr[d].attrs['units']}]" if fr[d].attrs.get("units", "1") != "1" else d
+          for d in dims),
+        "median [g]", "90 % interval [g]", "β", "with / without contact", "note",
+    ]  # fmt: skip
+    rows = []
+    for limit in fr["limit_state"].values:
+        sel = fr.sel(limit_state=limit)
+        for at in variants:
+            one = sel.isel(at)
+            ratio = (
+                float(one["pounding_median_ratio"]) if "pounding_median_ratio" in one else math.nan
+            )
+            interval = (
+                f"{_g(float(one['fragility_median_low']), 3)}–"
+                f"{_g(float(one['fragility_median_high']), 3)}"
+                if "fragility_median_low" in one
+                else "–"
+            )
+            rows.append(
+                [
+                    str(limit),
+                    *_name(fr, at),
+                    _g(float(one["fragility_median"]), 3),
+                    interval,
+                    _g(float(one["fragility_beta"]), 2),
+                    _g(ratio, 3),
+                    str(one["fit_note"].values),
+                ]
+            )
+    return Table(
+        header,
+        rows,
+        "Lognormal fragility P = Φ(ln(IM/θ)/β), θ the median capacity; "
+        f"{fr.attrs.get('method', '')}; intervals: {N_BOOT} bootstrap resamples. "
+        "with / without contact = median with the variant's contacts over the median of the same "
+        "records without contact (below 1: pounding lowers the capacity).",
+    )
+
+
+def _executive(fr: xr.Dataset) -> list[str]:
+    """The lead sentence per limit state: the variant whose contacts lower the median most."""
+    if "pounding_median_ratio" not in fr:
+        return []
+    lines = []
+    for limit in fr["limit_state"].values:
+        ratio = fr["pounding_median_ratio"].sel(limit_state=limit)
+        if not int(ratio.notnull().sum()):
+            continue
+        flat = int(np.nanargmin(ratio.values))
+        at = dict(zip(ratio.dims, np.unravel_index(flat, ratio.shape), strict=True))
+        worst = float(ratio.values.ravel()[flat])
+        without = float(
+            fr["fragility_median"].sel(limit_state=limit, law=_NO_CONTACT).values.ravel()[0]
+        )
+        with_ = float(fr["fragility_median"].sel(limit_state=limit).isel(at))
+        where = ", ".join(f"{d} {fr[d].values[i]}" for d, i in at.items())
+        if worst < 1.0:
+            lines.append(
+                f"{limit}: pounding lowers the median capacity most at {where}: "
+                f"{_g(with_, 3)} g instead of {_g(without, 3)} g ({100 * (1 - worst):.0f} % lower)."
+            )
+        else:
+            lines.append(
+                f"{limit}: no variant lowers the median capacity below the no-contact "
+                f"{_g(without, 3)} g."
+            )
+    return lines
+
+
+def _records_table(ds: xr.Dataset) -> Table:
+    rows = []
+    scale = ds["scale_factor"].values if "scale_factor" in ds else None
+    levels = ds["im_level"].values.astype(float)
+    for r, name in enumerate(ds["record"].values):
+        ref = str(ds["record_reference"].values[r]) if "record_reference" in ds else ""
+        im = levels[0] / scale[r, 0] if scale is not None and scale[r, 0] > 0 else math.nan
+        sf = f"{_g(scale[r].min(), 3)}–{_g(scale[r].max(), 3)}" if scale is not None else "–"
+        rows.append([str(name), ref, _g(im, 3), sf])
+    return Table(["record", "reference", "IM as recorded [g]", "scale factors"], rows[:60])
+
+
+def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
+    """The report of an IDA (a study Dataset with ``im_level`` and ``record`` axes)."""
+    limits = _limit_states(ds)
+    fr = ds.pounding.fragility(limits, n_boot=N_BOOT)
+    im = json.loads(ds.attrs.get("intensity_measure", "{}"))
+    label = ds["im_level"].attrs.get("long_name", "intensity")
+    analysis = json.loads(ds.attrs.get("analysis", "{}"))
+    collapse = float(analysis.get("collapse_drift") or 0.1)
+    n_rec, n_lev = ds.sizes["record"], ds.sizes["im_level"]
+    failed = int((ds["run_status"] == "failed").sum())
+    summary = Section("Executive summary")
+    summary.blocks.extend(_executive(fr))
+    summary.blocks.append(_fit_table(fr))
+    curves = Section("Fragility curves")
+    curves.blocks.append(
+        f"Probability of reaching each limit state against {label}: the fraction of the {n_rec} "
+        "records that reached it at each level (markers) and the fitted lognormal curve with its "
+        "pointwise 90 % bootstrap band, per variant (any building)."
+    )
+    curves.blocks.append(Plot(plots.fragility_curves(fr), "Fragility curves."))
+    ida = Section("IDA curves")
+    for b in ds["building"].values:
+        ida.blocks.append(
+            Plot(
+                plots.ida_curves(ds, str(b)),
+                f"Largest peak story drift ratio of building {b} against {label}: one line per "
+                f"record, the median over the records; a collapse is drawn at the collapse drift "
+                f"{100 * collapse:g} % (dotted).",
+            )
+        )
+    method = Section("Analysis")
+    method.blocks.append(
+        f"Incremental dynamic analysis (Vamvatsikos & Cornell 2002): {n_rec} records × {n_lev} "
+        f"levels of {label} ({', '.join(_g(v, 3) for v in ds['im_level'].values)} g), each record "
+        f"scaled by SF = IM_target / IM(record) (intensity measure {im.get('measure', '')}, exact for "
+        "it), for every variant and without contact. Collapse: a building with yielding stories "
+        f"or P-Δ whose story drift ratio passes {collapse:g}, where the analysis stops (a Newton "
+        "failure past it counts as collapse); a collapsed run reaches every drift limit state. "
+        f"{failed} run(s) failed and are left out. Fits: {fr.attrs.get('method', '')}; "
+        f"elastic buildings cannot collapse, so their collapse fragility is that of the others."
+    )
+    method.blocks.append(_records_table(ds))
+    sections = [summary, curves, ida, method, _model_section(ds, [])]
+    meta = [
+        ("records × levels", f"{n_rec} × {n_lev}"),
+        ("intensity", f"{label} [g]"),
+        ("pounding", str(ds.attrs.get("pounding_version", __version__))),
+    ]
+    return Report(str(ds.attrs.get("title") or "Fragility"), "fragility", sections, meta)
