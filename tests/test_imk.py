@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from _histories import piecewise
 from scipy.integrate import solve_ivp
 
 from pounding import simulate
@@ -265,16 +266,6 @@ def _aligned(history: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return np.array(out), np.array(inserted)
 
 
-def _piecewise(vertices: list[float], dy: float, per_dy: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Drift history from 0 through the vertices (units δ_y), straight to each one (per_dy = 0) or
-    in steps of at most 1/per_dy δ_y; and the indices of the vertices in it."""
-    out = []
-    for v0, v1 in zip([0.0, *vertices[:-1]], vertices, strict=True):
-        n = max(1, math.ceil(abs(v1 - v0) * per_dy))
-        out.append(np.linspace(v0, v1, n + 1)[1:])
-    return np.concatenate(out) * dy, np.cumsum([o.size for o in out]) - 1
-
-
 def _trapezoid(history: np.ndarray, f: np.ndarray) -> np.ndarray:
     """Cumulative ∫F dδ along the history from (0, 0), trapezoidal."""
     d = np.concatenate(([0.0], history))
@@ -349,7 +340,7 @@ _SETS = {
 def test_hand_history_with_inner_loops_equals_the_rules(name, per_dy):
     gammas, c, kappa = _SETS[name]
     p = _params(residual=kappa, gammas=gammas, c=c)
-    history, turns = _aligned(_piecewise(_HAND, DY, per_dy)[0], p)
+    history, turns = _aligned(piecewise(_HAND, DY, per_dy)[0], p)
     ours = _drive(history, p)
     ref, kinks = _reference(history, p)
     kinks |= turns
@@ -432,7 +423,7 @@ def test_strength_lost_in_a_constant_amplitude_cycle_by_hand():
     vertices = [-1.0, -4.0, -2.91, 1.0, 4.0, z_neg, -1.0, -4.0]  # each step straight
     forces = [-1.0, -1.09, 0.0, f_t, f_4, 0.0, -f_neg * (z_neg + 1.0) / (z_neg + 4.0), -f_neg]
     for per_dy in (0, 20):
-        history, ends = _piecewise(vertices, DY, per_dy)
+        history, ends = piecewise(vertices, DY, per_dy)
         rows = _drive(history, p)
         np.testing.assert_allclose(rows[ends, 0], np.array(forces) * FY, rtol=1e-12, atol=1e-9 * FY)
         assert rows[ends[2], 2] == pytest.approx(e_1 * FY * DY, rel=1e-12)  # W at the crossings
@@ -468,7 +459,7 @@ _CYCLE_ENDS = [0, 2, 7, 9]  # back at +6 δ_y after each closed cycle
 def _loop_areas(gammas: tuple) -> np.ndarray:
     """Hysteretic energy of the rules at the cycle ends: the trapezoid ∫F dδ of the reference's
     forces on a 1/500 δ_y history, less the recoverable F²/(2 K_u)."""
-    fine, ends = _piecewise(_CYCLES, DY, 500)
+    fine, ends = piecewise(_CYCLES, DY, 500)
     ref, _ = _reference(fine, _params(gammas=gammas), kinks=False)
     return (_trapezoid(fine, ref[:, 0]) - ref[:, 3])[ends[_CYCLE_ENDS]]
 

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from _histories import piecewise
 from scipy.integrate import solve_ivp
 
 from pounding import simulate
@@ -144,16 +145,6 @@ def _reference(
     return np.array(rows), np.array(at_kink)
 
 
-def _piecewise(vertices: list[float], dy: float, per_dy: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Drift history from 0 through the vertices (units δ_y), straight to each one (per_dy = 0) or
-    in steps of at most 1/per_dy δ_y; and the indices of the vertices in it."""
-    out = []
-    for v0, v1 in zip([0.0, *vertices[:-1]], vertices, strict=True):
-        n = max(1, math.ceil(abs(v1 - v0) * per_dy))
-        out.append(np.linspace(v0, v1, n + 1)[1:])
-    return np.concatenate(out) * dy, np.cumsum([o.size for o in out]) - 1
-
-
 def test_clough_cycle_by_hand():
     # a = 0, b = 0, k = F_y = 1 (δ_y = 1): yield to (3, 1); unload at k to zero force at z− = 2;
     # reload on L− from (2, 0) toward the negative yield point (−1, −1) (slope 1/3: F(0) = −2/3);
@@ -163,7 +154,7 @@ def test_clough_cycle_by_hand():
     # hysteretic energy at the end W − F²/(2k) = 7.5 − 0.5 = 7.0
     vertices = [3.0, 2.0, 0.0, -1.0, -3.0, -2.0, 0.0, 3.0]
     forces = [1.0, 0.0, -2.0 / 3.0, -1.0, -1.0, 0.0, 0.4, 1.0]
-    history, ends = _piecewise(vertices, 1.0, per_dy=100)
+    history, ends = piecewise(vertices, 1.0, per_dy=100)
     rows = _drive(history, 1.0, 1.0, 0.0, 0.0)
     np.testing.assert_allclose(rows[ends, 0], forces, rtol=0.0, atol=1e-12)
     assert rows[ends[0], 2] == pytest.approx(2.5, rel=1e-12)
@@ -186,7 +177,7 @@ _HAND = [0.5, -0.3, 0.8, 2.5, 1.8, 2.2, 2.6, 1.0, -0.5, 0.2, -0.8, -3.0, -2.5, -
 @pytest.mark.parametrize("per_dy", [0, 7, 50])
 def test_hand_history_with_inner_loops_equals_the_rules(a, b, per_dy):
     k, fy = 2.0e7, 3.0e4
-    history, _ = _piecewise(_HAND, fy / k, per_dy)
+    history, _ = piecewise(_HAND, fy / k, per_dy)
     ours = _drive(history, k, fy, b, a)
     ref, kinks = _reference(history, k, fy, b, a)
     np.testing.assert_allclose(ours[:, 0], ref[:, 0], rtol=0.0, atol=1e-9 * fy)
@@ -232,7 +223,7 @@ def test_cycles_dissipate_the_loop_area_of_the_rules():
     k, fy, b, a = 1.0e7, 1.0e4, 0.05, 0.4
     dy = fy / k
     vertices = [4.0, -4.0, 4.0, -4.0, 4.0, 2.5, 3.2, -1.0, 0.5, -4.0, 4.0]
-    history, ends = _piecewise(vertices, dy, 500)
+    history, ends = piecewise(vertices, dy, 500)
     ours = _drive(history, k, fy, b, a)
     ref, _ = _reference(history, k, fy, b, a, kinks=False)
     np.testing.assert_allclose(ours[:, 0], ref[:, 0], rtol=0.0, atol=1e-9 * fy)
