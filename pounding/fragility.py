@@ -439,9 +439,10 @@ def study_fragility(
     which it reached the limit state; records that never did are censored at the highest level).
     ``n_boot`` > 0 adds bootstrap percentile intervals (``level``). Returns a Dataset with
     ``fragility_median`` [g], ``fragility_beta``, their intervals (``_low``, ``_high``), the
-    observed ``reached_fraction`` of the records per level, ``fit_note`` (why a fit is missing)
-    and, when the study has the no-contact law, ``pounding_median_ratio`` (median with contact /
-    without: below 1 pounding lowers the capacity)."""
+    observed ``reached_fraction`` of the records per level, ``fit_note`` (why a fit is missing),
+    ``pounding_probability`` (the fraction of the records that pound at each level) and, when the
+    study has the no-contact law, ``pounding_median_ratio`` (median with contact / without: below 1
+    pounding lowers the capacity)."""
     import xarray as xr
 
     if "im_level" not in ds.dims or "record" not in ds.dims:
@@ -557,6 +558,14 @@ def study_fragility(
             b_hi,
             {"units": "1", "long_name": f"β, {level:.0%} high"},
         )
+    if "impact_count" in ds and "contact" in ds["impact_count"].dims:
+        ok = ds["run_status"] == "ok"
+        pounds = (ds["impact_count"].sum("contact") > 0).astype(float).where(ok)
+        out["pounding_probability"] = pounds.mean("record").transpose(*others, "im_level")
+        out["pounding_probability"].attrs = {
+            "units": "1",
+            "long_name": "fraction of the records with at least one impact",
+        }
     if "law" in others and "none" in [str(v) for v in ds["law"].values]:
         ratio = out["fragility_median"] / out["fragility_median"].sel(law="none")
         out["pounding_median_ratio"] = ratio.assign_attrs(

@@ -99,6 +99,12 @@ def test_study_fragility_equals_the_fits_applied_to_its_runs(ida_run):
     assert float(got["fragility_median"]) == pytest.approx(ref.median, rel=1e-9)
     ratio = fr["pounding_median_ratio"].sel(law="none")
     assert np.all((ratio.values == 1.0) | np.isnan(ratio.values))
+    # the probability of pounding per level: the share of the records with an impact
+    hits = (ds["impact_count"].sum("contact") > 0).sel(law="hertz").transpose("im_level", "record")
+    np.testing.assert_allclose(
+        fr["pounding_probability"].sel(law="hertz").values, hits.values.mean(axis=1)
+    )
+    assert float(fr["pounding_probability"].sel(law="none").max()) == 0.0
 
 
 @pytest.mark.parametrize(

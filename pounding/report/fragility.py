@@ -122,6 +122,25 @@ def _executive(fr: xr.Dataset) -> list[str]:
     return lines
 
 
+def _pounding_table(fr: xr.Dataset) -> Table | None:
+    """The fraction of the records that pound at each level, per variant with contacts."""
+    if "pounding_probability" not in fr:
+        return None
+    prob = fr["pounding_probability"]
+    dims = [d for d in prob.dims if d != "im_level"]
+    rows = []
+    for index in np.ndindex(*(prob.sizes[d] for d in dims)):
+        at = dict(zip(dims, index, strict=True))
+        if "law" in at and str(fr["law"].values[at["law"]]) == _NO_CONTACT:
+            continue
+        rows.append([*_name(fr, at), *(f"{100 * v:.0f} %" for v in prob.isel(at).values)])
+    if not rows:
+        return None
+    header = [*dims, *(f"{_g(v, 3)} g" for v in fr["im_level"].values)]
+    return Table(header, rows, "Probability of pounding: the share of the records with at least "
+                 "one impact at each intensity level.")  # fmt: skip
+
+
 def _records_table(ds: xr.Dataset) -> Table:
     rows = []
     scale = ds["scale_factor"].values if "scale_factor" in ds else None
@@ -154,6 +173,9 @@ def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
         "pointwise 90 % bootstrap band, per variant (any building)."
     )
     curves.blocks.append(Plot(plots.fragility_curves(fr), "Fragility curves."))
+    pounding = _pounding_table(fr)
+    if pounding is not None:
+        curves.blocks.append(pounding)
     ida = Section("IDA curves")
     for b in ds["building"].values:
         ida.blocks.append(
