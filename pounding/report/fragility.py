@@ -48,13 +48,19 @@ def _name(fr: xr.Dataset, at: dict[str, int]) -> list[str]:
     return cells
 
 
+def _headers(fr: xr.Dataset, dims: list[str]) -> list[str]:
+    """Column titles of the variant axes, with their units."""
+    return [
+        f"{d} [{fr[d].attrs['units']}]" if fr[d].attrs.get("units", "1") != "1" else d for d in dims
+    ]
+
+
 def _fit_table(fr: xr.Dataset) -> Table:
     variants = _variants(fr)
     dims = list(variants[0]) if variants else []
     header = [
         "limit state",
-        *(f"{d} [{fr[d].attrs['units']}]" if fr[d].attrs.get("units", "1") != "1" else d
-          for d in dims),
+        *_headers(fr, dims),
         "median [g]", "90 % interval [g]", "β", "with / without contact", "note",
     ]  # fmt: skip
     rows = []
@@ -136,7 +142,7 @@ def _pounding_table(fr: xr.Dataset) -> Table | None:
         rows.append([*_name(fr, at), *(f"{100 * v:.0f} %" for v in prob.isel(at).values)])
     if not rows:
         return None
-    header = [*dims, *(f"{_g(v, 3)} g" for v in fr["im_level"].values)]
+    header = [*_headers(fr, dims), *(f"{_g(v, 3)} g" for v in fr["im_level"].values)]
     return Table(header, rows, "Probability of pounding: the share of the records with at least "
                  "one impact at each intensity level.")  # fmt: skip
 
