@@ -550,7 +550,7 @@ def case_file_reference() -> str:
         "unless a key says otherwise. A wrong type or a value out of range is one error line naming "
         "the key, the value and what is allowed. Tables: `title` (text), `[[building]]` (one or "
         "more), `[[contact]]` (none or more), `[ground_motion]` (analytic or a record), "
-        "`[analysis]`, `[output]`, and `[study]` / `[separation]` (README).\n\n"
+        "`[analysis]`, `[output]`, and `[study]`, `[ida]` / `[separation]` (README).\n\n"
     )
     return head + reference(CASE_SCHEMA)
 
