@@ -25,7 +25,11 @@ BASE = {
 }
 
 
-SINGLE_RUN_EXAMPLES = [p for p in sorted(EXAMPLES.glob("*.toml")) if "[study]" not in p.read_text()]
+SINGLE_RUN_EXAMPLES = [
+    p
+    for p in sorted(EXAMPLES.glob("*.toml"))
+    if not {"[study]", "[ida]"} & set(p.read_text().split())
+]
 
 
 @pytest.mark.parametrize("path", SINGLE_RUN_EXAMPLES, ids=lambda p: p.stem)

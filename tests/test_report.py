@@ -427,7 +427,7 @@ def test_pdf_of_a_building_named_like_mathtext_prints_the_name_as_written(mathte
 def test_report_dispatches_through_the_registry(analysis_report, monkeypatch):
     from pounding.report import REPORT_BUILDERS, Report
 
-    assert set(REPORT_BUILDERS) == {"analysis", "study", "separation"}
+    assert set(REPORT_BUILDERS) == {"analysis", "study", "separation", "fragility"}
     ds, _ = analysis_report
     stub = Report("stub", "analysis", [], [])
     monkeypatch.setitem(REPORT_BUILDERS, "analysis", lambda ds, store: stub)

@@ -503,7 +503,10 @@ def test_demo_study_file_is_valid():
     laws = [law for law in study.axes["law"] if law != "none"]
     assert len(laws) >= 5 and len(study.axes["gap"]) >= 3 and len(study.axes["record"]) >= 2
     plan = plan_study(study, "/nonexistent/store")
-    assert len(plan.tasks) == len(laws) * len(study.axes["gap"]) * 2 + 2
+    # every law x gap x record, and the no-contact runs per record, for elastic and yielding stories
+    variants = len(study.axes["building.0.stories"])
+    assert variants == 2
+    assert len(plan.tasks) == (len(laws) * len(study.axes["gap"]) * 2 + 2) * variants
     pga = [r.motion.pga / G for r in study.axes["record"]]
     assert all(0.2 < p < 0.5 for p in pga)
 
