@@ -626,8 +626,9 @@ def _run_study_command(
     scheduler: str | None,
     store: str | None,
     retry_failed: bool,
-) -> tuple[Any, float]:
-    """Plan, run (resumable, in parallel) and save a study; the Dataset and the start time."""
+) -> tuple[Any, float, Any]:
+    """Plan, run (resumable, in parallel) and save a study; the Dataset, the start time and the
+    run store (as given or defaulted, for the closing line)."""
     _netcdf_output(output)
     import signal
     import time
@@ -679,7 +680,7 @@ def _run_study_command(
         typer.echo(f"  {failed} combination(s) failed; their errors are in run_error, e.g.:")
         first = ds["run_error"].values[ds["run_status"].values == "failed"][0]
         typer.echo(f"    {first}")
-    return ds, start
+    return ds, start, plan.store
 
 
 _STUDY_OPTIONS = dict(
@@ -709,10 +710,9 @@ def study(
     """Run a comparative study: every combination of the [study] axes, resumable, in parallel."""
     import time
 
-    ds, start = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
+    ds, start, store_dir = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
     if "drift_amplification" in ds:
         _print_study_statistics(ds if "record" in ds.dims else ds.expand_dims("record"))
-    store_dir = ds.attrs.get("store", "")
     typer.echo(f"  {time.monotonic() - start:.1f} s; written {output} (runs in {store_dir})")
 
 
@@ -734,12 +734,11 @@ def ida(
     import json
     import time
 
-    ds, start = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
+    ds, start, store_dir = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
     if "im_level" not in ds.dims:
         raise UserError(f"{case}: not an IDA (give an [ida] table, or study.im and study.im_level)")
     limits = json.loads(ds.attrs.get("limit_states", '["collapse"]'))
     _print_fragility(ds.pounding.fragility(limits))
-    store_dir = ds.attrs.get("store", "")
     typer.echo(f"  {time.monotonic() - start:.1f} s; written {output} (runs in {store_dir})")
 
 
