@@ -175,6 +175,8 @@ limit_states = ["collapse", 0.01]
     assert list(fits["limit_state"].values) == ["drift 1 %"]
     bad = runner.invoke(app, ["fragility", str(out), "-l", "yield"])
     assert bad.exit_code == 2 and bad.output.startswith("error: --limit-state 'yield'")
+    plain = runner.invoke(app, ["ida", str(ROOT / "examples" / "two_sdof.toml"), "-o", str(out)])
+    assert plain.exit_code == 2 and "no [study] or [ida] table" in plain.output
 
 
 def test_fragility_report_leads_with_the_fits_and_shows_the_curves(ida_run, tmp_path):

@@ -1,14 +1,29 @@
 """From responses to risk: intensity measures for scaling records, lognormal fragility fitting,
 and the FEMA P695 collapse margin."""
 
-from pounding.fragility import Fragility, bootstrap, fit_ida, fit_stripes
+from pounding.fragility import Fragility, bootstrap, fit_ida, fit_stripes, study_fragility
 from pounding.intensity import MEASURES, IntensityMeasure
+from pounding.risk.collapse_margin import (
+    CollapseMargin,
+    acceptable_acmr,
+    collapse_margin,
+    mce_spectral_acceleration,
+    spectral_shape_factor,
+    total_uncertainty,
+)
 
 __all__ = [
     "MEASURES",
+    "CollapseMargin",
     "Fragility",
     "IntensityMeasure",
+    "acceptable_acmr",
     "bootstrap",
+    "collapse_margin",
     "fit_ida",
     "fit_stripes",
+    "mce_spectral_acceleration",
+    "spectral_shape_factor",
+    "study_fragility",
+    "total_uncertainty",
 ]

@@ -213,7 +213,7 @@ def study_from_dict(
         data["study"] = _ida_as_study(data.pop("ida"), source)
     spec = data.pop("study", None)
     if not isinstance(spec, Mapping) or not spec:
-        raise StudyError(f"{source}: no [study] table (see the README for its axes)")
+        raise StudyError(f"{source}: no [study] or [ida] table (see the README for their axes)")
     law_params = _parse_law_params(spec.get("law_params", {}), source)
     keep = spec.get("keep_histories", False)
     if not isinstance(keep, bool):
