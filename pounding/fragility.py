@@ -41,9 +41,6 @@ import numpy as np
 
 from pounding.errors import PoundingInputError
 
-#: Fit methods, as recorded in :attr:`Fragility.method`.
-METHODS = ("moments", "truncated_mle", "stripes_mle")
-
 
 def _phi(x: np.ndarray) -> np.ndarray:
     """Standard normal CDF Φ."""
@@ -94,18 +91,6 @@ class Fragility:
             p = _phi(np.log(x[None, :] / self.samples[:, :1]) / self.samples[:, 1:])
         tail = 50.0 * (1.0 - self.ci_level)
         return np.percentile(p, tail, axis=0), np.percentile(p, 100.0 - tail, axis=0)
-
-    def to_dict(self) -> dict[str, object]:
-        out: dict[str, object] = {
-            "median": self.median,
-            "beta": self.beta,
-            "method": self.method,
-            "n": self.n,
-        }
-        if self.median_ci is not None:
-            out.update(median_ci=list(self.median_ci), beta_ci=list(self.beta_ci or ()))
-            out["ci_level"] = self.ci_level
-        return out
 
 
 def _values(x: Sequence[float] | np.ndarray, field: str) -> np.ndarray:
@@ -384,6 +369,24 @@ def bootstrap(
 #: The limit state that is the analysis' own collapse (story drift past ``collapse_drift``, a
 #: Newton failure past it, or a story whose deterioration capacity is spent and then collapses).
 COLLAPSE = "collapse"
+
+
+def variants(ds, dims: Sequence[str]) -> list[dict[str, int]]:
+    """Index selections over the variant axes ``dims`` of a study or fragility Dataset; the
+    no-contact law (``law = "none"``) once, at index 0 of the other axes, since without contact
+    they (gap, e, k) change nothing."""
+    out = []
+    for index in np.ndindex(*(ds.sizes[d] for d in dims)):
+        at = dict(zip(dims, index, strict=True))
+        if no_contact(ds, at) and any(i for d, i in at.items() if d != "law"):
+            continue
+        out.append(at)
+    return out
+
+
+def no_contact(ds, at: dict[str, int]) -> bool:
+    """Whether the selection ``at`` is the no-contact law."""
+    return "law" in at and str(ds["law"].values[at["law"]]) == "none"
 
 
 def _limit_label(limit: str | float) -> str:

@@ -35,7 +35,6 @@ import numpy as np
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.integrators.sdof import spectral_peaks
-from pounding.units import G
 
 #: Intensity measures by name, with what they are.
 MEASURES = {
@@ -159,8 +158,3 @@ class IntensityMeasure:
                 period_low=self.period_low, period_high=self.period_high, n_periods=self.n_periods
             )
         return out
-
-
-def in_g(value: float) -> float:
-    """An acceleration [m/s²] in units of g."""
-    return value / G

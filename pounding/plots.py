@@ -873,19 +873,17 @@ def fragility_curves(fr: xr.Dataset) -> Figure:
     limits = [str(v) for v in fr["limit_state"].values]
     fig, axes = _figure(3.4, ncols=len(limits))
     levels = fr["im_level"].values.astype(float)
-    variants = [d for d in fr["fragility_median"].dims if d != "limit_state"]
-    combos = list(np.ndindex(*(fr.sizes[d] for d in variants))) if variants else [()]
+    from pounding.fragility import no_contact, variants
+
+    dims = [d for d in fr["fragility_median"].dims if d != "limit_state"]
     for ax, limit in zip(axes[0], limits, strict=False):
         sel = fr.sel(limit_state=limit)
-        for j, index in enumerate(combos):
-            at = {d: i for d, i in zip(variants, index, strict=True)}
-            if "law" in at and str(sel["law"].values[at["law"]]) == _NO_CONTACT:
-                if any(i for d, i in at.items() if d != "law"):
-                    continue  # without contact the other axes (gap, e, k) change nothing
-                at = {"law": at["law"]}
-            one = sel.isel(at).isel({d: 0 for d in variants if d not in at})
+        for j, at in enumerate(variants(fr, dims)):
+            one = sel.isel(at)
             parts = []
             for d, i in at.items():
+                if no_contact(fr, at) and d != "law":
+                    continue  # without contact the other axes change nothing
                 units = str(sel[d].attrs.get("units", ""))
                 parts.append(f"{d} {sel[d].values[i]}{'' if units in ('', '1') else ' ' + units}")
             name = ", ".join(parts) or "all runs"
@@ -914,15 +912,10 @@ def ida_curves(ds: xr.Dataset, building: str | None = None) -> Figure:
     """IDA curves: the largest peak story drift ratio of a building (or of all buildings) against the
     target intensity, one thin line per record and the median over the records (thick), one panel
     per variant (the no-contact variant once); a collapsed run is drawn at the collapse drift."""
-    variants = [d for d in ds["run_status"].dims if d not in ("record", "im_level")]
-    combos = list(np.ndindex(*(ds.sizes[d] for d in variants))) if variants else [()]
-    keep = []
-    for index in combos:
-        at = dict(zip(variants, index, strict=True))
-        if "law" in at and str(ds["law"].values[at["law"]]) == _NO_CONTACT:
-            if any(i for d, i in at.items() if d != "law"):
-                continue
-        keep.append(at)
+    from pounding.fragility import no_contact, variants
+
+    dims = [d for d in ds["run_status"].dims if d not in ("record", "im_level")]
+    keep = variants(ds, dims)
     fig, axes = _figure(3.0, ncols=min(len(keep), 3), nrows=math.ceil(len(keep) / 3))
     drift = ds["peak_drift_ratio"].max("story")
     drift = drift.sel(building=building) if building else drift.max("building")
@@ -943,6 +936,8 @@ def ida_curves(ds: xr.Dataset, building: str | None = None) -> Figure:
         ax.axvline(100.0 * limit, color="k", ls=":", lw=0.8)
         parts = []
         for dim, i in at.items():
+            if no_contact(ds, at) and dim != "law":
+                continue  # without contact the other axes change nothing
             units = str(ds[dim].attrs.get("units", ""))
             parts.append(f"{dim} {ds[dim].values[i]}{'' if units in ('', '1') else ' ' + units}")
         ax.set_title(plain_text(", ".join(parts) or "all runs"), fontsize="small")

@@ -13,6 +13,7 @@ import xarray as xr
 
 from pounding import plots
 from pounding._version import __version__
+from pounding.fragility import no_contact, variants
 from pounding.report.document import _NO_CONTACT, Plot, Report, Section, Table, _g
 from pounding.report.sections import _model_section
 
@@ -24,24 +25,11 @@ def _limit_states(ds: xr.Dataset) -> list[str | float]:
     return list(json.loads(ds.attrs.get("limit_states", '["collapse"]')))
 
 
-def _variants(fr: xr.Dataset) -> list[dict[str, int]]:
-    """Index selections of the variants, the no-contact one once."""
-    dims = [d for d in fr["fragility_median"].dims if d != "limit_state"]
-    out = []
-    for index in np.ndindex(*(fr.sizes[d] for d in dims)):
-        at = dict(zip(dims, index, strict=True))
-        if "law" in at and str(fr["law"].values[at["law"]]) == _NO_CONTACT:
-            if any(i for d, i in at.items() if d != "law"):
-                continue
-        out.append(at)
-    return out
-
-
 def _name(fr: xr.Dataset, at: dict[str, int]) -> list[str]:
     cells = []
     for d, i in at.items():
         v = fr[d].values[i]
-        if "law" in at and str(fr["law"].values[at["law"]]) == _NO_CONTACT and d != "law":
+        if no_contact(fr, at) and d != "law":
             cells.append("–")
         else:
             cells.append(f"{v:g}" if isinstance(v, float | np.floating) else str(v))
@@ -56,8 +44,8 @@ def _headers(fr: xr.Dataset, dims: list[str]) -> list[str]:
 
 
 def _fit_table(fr: xr.Dataset) -> Table:
-    variants = _variants(fr)
-    dims = list(variants[0]) if variants else []
+    dims = [d for d in fr["fragility_median"].dims if d != "limit_state"]
+    selections = variants(fr, dims)
     header = [
         "limit state",
         *_headers(fr, dims),
@@ -66,7 +54,7 @@ def _fit_table(fr: xr.Dataset) -> Table:
     rows = []
     for limit in fr["limit_state"].values:
         sel = fr.sel(limit_state=limit)
-        for at in variants:
+        for at in selections:
             one = sel.isel(at)
             ratio = (
                 float(one["pounding_median_ratio"]) if "pounding_median_ratio" in one else math.nan
@@ -135,9 +123,8 @@ def _pounding_table(fr: xr.Dataset) -> Table | None:
     prob = fr["pounding_probability"]
     dims = [d for d in prob.dims if d != "im_level"]
     rows = []
-    for index in np.ndindex(*(prob.sizes[d] for d in dims)):
-        at = dict(zip(dims, index, strict=True))
-        if "law" in at and str(fr["law"].values[at["law"]]) == _NO_CONTACT:
+    for at in variants(fr, dims):
+        if no_contact(fr, at):
             continue
         rows.append([*_name(fr, at), *(f"{100 * v:.0f} %" for v in prob.isel(at).values)])
     if not rows:
