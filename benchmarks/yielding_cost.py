@@ -41,7 +41,6 @@ from models import DURATION, build, record  # noqa: E402
 from pounding import Stories, assemble  # noqa: E402
 from pounding.simulate import AnalysisOptions, run  # noqa: E402
 
-
 _DETERIORATION = {f"gamma_{m}": 50.0 for m in "scak"}
 
 

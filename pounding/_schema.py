@@ -248,7 +248,9 @@ ATTRS.update(
         "record_dt": {"units": "s", "long_name": "record sampling interval"},
         "record_reference": {"long_name": "record reference"},
         "record_processing": {"long_name": "processing chain of the record (JSON list)"},
-        "run_status": {"long_name": "run status (ok or failed)"},
+        "run_status": {
+            "long_name": "run status (ok, failed; unused: a hunt-and-fill slot not needed)"
+        },
         "run_error": {"long_name": "error message of a failed run"},
         "run_key": {"long_name": "key of the run in the store"},
         "baseline_key": {"long_name": "key of the no-contact run in the store"},

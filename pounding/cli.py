@@ -647,6 +647,8 @@ def _run_study_command(
     start = time.monotonic()
     loaded = load_study(case)
     store_dir = store or default_store(output)
+    if loaded.hunt is not None:
+        return _run_hunt_command(loaded, case, output, jobs, scheduler, store_dir, retry_failed)
     plan = plan_study(loaded, store_dir, retry_failed=retry_failed)
     stored = len(plan.tasks) - len(plan.todo)
     where = f"scheduler {scheduler}" if scheduler else f"{jobs or 'all'} local process(es)"
@@ -681,6 +683,69 @@ def _run_study_command(
         first = ds["run_error"].values[ds["run_status"].values == "failed"][0]
         typer.echo(f"    {first}")
     return ds, start, plan.store
+
+
+def _run_hunt_command(
+    loaded: Any,
+    case: str,
+    output: str,
+    jobs: int | None,
+    scheduler: str | None,
+    store_dir: Any,
+    retry_failed: bool,
+) -> tuple[Any, float, Any]:
+    """Trace every record of a hunt-and-fill IDA (resumable, in rounds of parallel runs)."""
+    import signal
+    import time
+
+    import numpy as np
+
+    from pounding.results import save
+    from pounding.studies import run_hunt, stop_on_signals
+
+    start = time.monotonic()
+    hunt = loaded.hunt
+    n_traces = loaded.size
+    variants = ", ".join(f"{n} ({len(v)})" for n, v in loaded.axes.items() if n != "record")
+    typer.echo(f"{loaded.title or case}")
+    typer.echo(
+        f"  hunt-and-fill IDA: {len(loaded.axes['record'])} records"
+        + (f" × variants {variants}" if variants else "")
+        + f", at most {hunt.max_runs} runs per record ({n_traces * hunt.max_runs} in all) on "
+        + (f"scheduler {scheduler}" if scheduler else f"{jobs or 'all'} local process(es)")
+        + f"; {hunt.limit_state} bracketed to {hunt.tolerance:g} g"
+    )
+    if scheduler is None:
+        _compile_notice()
+    try:
+        with stop_on_signals():
+            ds = run_hunt(
+                loaded,
+                store_dir,
+                jobs=jobs,
+                scheduler=scheduler,
+                progress=_ProgressBar(),
+                retry_failed=retry_failed,
+            )
+    except KeyboardInterrupt as exc:
+        typer.echo(
+            f"\ninterrupted: finished runs are stored in {store_dir}; run the same command "
+            "again to resume",
+            err=True,
+        )
+        raise typer.Exit(code=128 + getattr(exc, "signum", signal.SIGINT)) from None
+    save(ds, output)
+    runs = int(ds.attrs["unique_runs"])
+    censored = int(np.isnan(ds["collapse_im"]).sum())
+    typer.echo(
+        f"  {runs} runs; collapse_im found for {ds['collapse_im'].size - censored} of "
+        f"{ds['collapse_im'].size} records (the others censored at their highest run)"
+    )
+    failed = int((ds["run_status"] == "failed").sum())
+    if failed:
+        first = ds["run_error"].values[ds["run_status"].values == "failed"][0]
+        typer.echo(f"  {failed} run(s) failed (counted as collapse), e.g.: {first}")
+    return ds, start, Path(store_dir)
 
 
 _STUDY_OPTIONS = dict(
@@ -735,7 +800,7 @@ def ida(
     import time
 
     ds, start, store_dir = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
-    if "im_level" not in ds.dims:
+    if "im_level" not in ds.dims and "ida_run" not in ds.dims:
         raise UserError(f"{case}: not an IDA (give an [ida] table, or study.im and study.im_level)")
     limits = json.loads(ds.attrs.get("limit_states", '["collapse"]'))
     _print_fragility(ds.pounding.fragility(limits))
@@ -798,7 +863,9 @@ def fragility(
     result: str = typer.Argument(..., help="An IDA result (pounding ida -o)."),
     limit_state: list[str] = _LIMIT_STATE,
     building: str = typer.Option(None, help="Whose limit state (default: any building's)."),
-    method: str = typer.Option("stripes", help="stripes (binomial likelihood) or ida."),
+    method: str = typer.Option(
+        None, help="stripes (binomial likelihood) or ida; default stripes, ida for hunt-and-fill."
+    ),
     bootstrap: int = typer.Option(
         0, help="Bootstrap resamples for 90 % intervals of the median and β (e.g. 1000)."
     ),
@@ -833,6 +900,64 @@ def fragility(
         else:
             raise UserError(f"-o {output!r}; allowed: a .nc, .png, .pdf or .svg file")
         typer.echo(f"written {output}")
+
+
+@app.command("collapse-margin")
+@user_errors
+def collapse_margin_command(
+    result: str = typer.Argument(..., help="An IDA result with im = sa (pounding ida -o)."),
+    ductility: float = typer.Option(
+        ..., help="Period-based ductility μ_T = δ_u/δ_y,eff from a pushover (FEMA P695 Sec. 6.3)."
+    ),
+    sdc: str = typer.Option(
+        "Dmax", help="Seismic design category: Dmax, Dmin, Cmax, Cmin, Bmax, Bmin."
+    ),
+    design: str = typer.Option("B", help="Quality rating of the design requirements (A-D)."),
+    test: str = typer.Option("B", help="Quality rating of the test data (A-D)."),
+    model: str = typer.Option("B", help="Quality rating of the nonlinear model (A-D)."),
+    building: str = typer.Option(None, help="Whose collapse (default: any building's)."),
+) -> None:
+    """FEMA P695 collapse margin of every variant of an IDA: median collapse Sa(T), CMR, ACMR,
+    probability of collapse at the MCE, pass/fail against ACMR20 %, with and without pounding."""
+    import math
+
+    from pounding.results import open_result
+    from pounding.risk import ida_collapse_margin
+
+    ds = open_result(result)
+    cm = ida_collapse_margin(ds, ductility, sdc, design, test, model, building=building)
+    a = cm.attrs
+    typer.echo(
+        f"  FEMA P695 collapse margin ({'any building' if a['building'] == 'any' else 'building ' + a['building']}): "
+        f"T = {a['period']:.3g} s, SDC {a['sdc']}, S_MT = {a['s_mt']:.3g} g, μ_T = {a['ductility']:g}, "
+        f"SSF = {a['ssf']:.3f}, β_TOT = {a['beta_total']:.3f} ({a['ratings']}), "
+        f"ACMR10 % = {a['acmr10']:.2f}, ACMR20 % = {a['acmr20']:.2f}"
+    )
+    dims = list(cm["cmr"].dims)
+    ratio = "cmr_ratio" in cm
+    typer.echo(
+        "  " + "".join(f"{d:<12s}" for d in dims)
+        + f"{'Ŝ_CT [g]':<10s}{'censored':<10s}{'CMR':<8s}{'ACMR':<8s}{'P_MCE [%]':<10s}{'≥ACMR20':<8s}"
+        + ("CMR with/without contact" if ratio else "")
+    )  # fmt: skip
+    from pounding.fragility import variants
+
+    for at in variants(cm, dims) if dims else [{}]:
+        one = cm.isel(at)
+        names = "".join(f"{str(cm[d].values[i]):<12s}" for d, i in at.items())
+        if not math.isfinite(float(one["cmr"])):
+            typer.echo(f"  {names}no margin: {one['note'].values}")
+            continue
+        line = (
+            f"  {names}{float(one['median_collapse_sa']):<10.3g}{int(one['n_censored']):<10d}"
+            f"{float(one['cmr']):<8.2f}{float(one['acmr']):<8.2f}"
+            f"{100 * float(one['p_collapse_mce']):<10.1f}"
+            f"{'pass' if bool(one['passes']) else 'fail':<8s}"
+        )
+        if ratio:
+            line += f"{float(one['cmr_ratio']):.3f}"
+        typer.echo(line.rstrip())
+    typer.echo(f"  ({a['method']})")
 
 
 @app.command()

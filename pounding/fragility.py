@@ -106,11 +106,13 @@ def _values(x: Sequence[float] | np.ndarray, field: str) -> np.ndarray:
 
 
 def fit_ida(
-    capacities: Sequence[float] | np.ndarray, censored_above: float | None = None
+    capacities: Sequence[float] | np.ndarray,
+    censored_above: float | Sequence[float] | np.ndarray | None = None,
 ) -> Fragility:
     """Fit to one capacity per record (the IM at which it reached the limit state); ``inf`` for a
     record that had not reached it at ``censored_above``, the largest intensity analysed (then the
-    truncated-IDA likelihood is maximised)."""
+    truncated-IDA likelihood is maximised). ``censored_above`` may also be one level per record
+    (each record's highest run, as in a hunt-and-fill IDA)."""
     x = _values(capacities, "capacities")
     reached = np.isfinite(x)
     m = int(reached.sum())
@@ -120,24 +122,35 @@ def fit_ida(
         )
     if m == x.size:
         ln = np.log(x)
+        if np.ptp(ln) == 0.0:
+            raise PoundingInputError(
+                f"fit_ida: every record reached the limit state at {x[0]:.4g}; the dispersion is "
+                "undetermined (analyse finer levels)"
+            )
         return Fragility(float(np.exp(ln.mean())), float(ln.std(ddof=1)), "moments", x.size)
-    if censored_above is None or not math.isfinite(censored_above) or censored_above <= 0.0:
+    top = None if censored_above is None else np.asarray(censored_above, dtype=float)
+    if top is not None and top.ndim and top.size != x.size:
+        raise PoundingInputError(
+            f"fit_ida: censored_above has {top.size} values for {x.size} capacities; allowed: "
+            "one level, or one per record"
+        )
+    limit = None if top is None else np.broadcast_to(top, x.shape)[~reached]
+    if limit is None or not np.all(np.isfinite(limit) & (limit > 0.0)):
         raise PoundingInputError(
             f"fit_ida: {x.size - m} record(s) did not reach the limit state; give censored_above "
             "(the largest intensity analysed, > 0)"
         )
-    if np.any(x[reached] > censored_above):
+    if top is not None and not top.ndim and np.any(x[reached] > top):
         raise PoundingInputError("fit_ida: a capacity exceeds censored_above")
     ln_x = np.log(x[reached])
-    ln_max = math.log(censored_above)
-    n_out = x.size - m
+    ln_max = np.log(limit)
 
     def nll(q: np.ndarray) -> float:
         from scipy.special import log_ndtr
 
         mu, beta = q[0], math.exp(q[1])
         r = (ln_x - mu) / beta
-        ll = np.sum(-0.5 * r * r - math.log(beta) - ln_x) + n_out * log_ndtr(-(ln_max - mu) / beta)
+        ll = np.sum(-0.5 * r * r - math.log(beta) - ln_x) + np.sum(log_ndtr(-(ln_max - mu) / beta))
         return -float(ll)
 
     mu, beta = _maximise(nll, ln_x.mean(), ln_x.std(ddof=1) if m > 1 else 0.5)
@@ -302,7 +315,7 @@ def bootstrap(
     fit: Fragility,
     capacities: Sequence[float] | np.ndarray | None = None,
     *,
-    censored_above: float | None = None,
+    censored_above: float | Sequence[float] | np.ndarray | None = None,
     stripes: tuple[Sequence[float], Sequence[int], Sequence[int]] | None = None,
     n_boot: int = 1000,
     level: float = 0.9,
@@ -323,11 +336,12 @@ def bootstrap(
     budget = 2 * n_boot  # resamples that cannot be fitted (all or none reached) are drawn again
     if capacities is not None:
         x = _values(capacities, "capacities")
+        top = None if censored_above is None else np.asarray(censored_above, dtype=float)
         while k < n_boot and tries < budget:
             tries += 1
-            sample = x[rng.integers(0, x.size, x.size)]
+            pick = rng.integers(0, x.size, x.size)
             try:
-                f = fit_ida(sample, censored_above)
+                f = fit_ida(x[pick], top[pick] if top is not None and top.ndim else top)
             except PoundingInputError:  # fewer than two reached in this resample
                 continue
             out[k] = f.median, f.beta
@@ -424,12 +438,39 @@ def _exceeded(ds, limit: str | float, building: str | None):
     return hit.astype(float).where(ok)
 
 
+def _drift(ds, building: str | None):
+    """Peak story drift ratio per run of ``building`` (the largest of all when None); a collapsed
+    run counts at least the collapse drift (the IDA curve's flatline)."""
+    import json
+
+    drift = ds["peak_drift_ratio"].max("story")
+    if "collapse_time" in ds:
+        limit = float(json.loads(ds.attrs.get("analysis", "{}")).get("collapse_drift") or 0.1)
+        drift = drift.where(~np.isfinite(ds["collapse_time"]), np.fmax(drift, limit))
+    return drift.sel(building=building) if building else drift.max("building")
+
+
+def _crossing(levels: np.ndarray, drift: np.ndarray, hit: np.ndarray, limit: float) -> float:
+    """The intensity at which a record's IDA curve (its runs sorted by level, from the origin,
+    linear in between) first reaches the drift ``limit``; a failed run (NaN drift) is a crossing
+    at its level."""
+    order = np.argsort(levels)
+    lv, d, h = levels[order], drift[order], hit[order]
+    keep = np.isfinite(lv) & np.isfinite(h)
+    lv, d, h = lv[keep], d[keep], h[keep]
+    j = int(np.argmax(h == 1.0))
+    if not np.isfinite(d[j]) or d[j] <= limit:  # failed run, or reached at exactly its level
+        return float(lv[j])
+    l0, d0 = (float(lv[j - 1]), float(d[j - 1])) if j else (0.0, 0.0)
+    return l0 + (limit - d0) / (float(d[j]) - d0) * (float(lv[j]) - l0)
+
+
 def study_fragility(
     ds,
     limit_state: str | float | Sequence[str | float] = COLLAPSE,
     *,
     building: str | None = None,
-    method: str = "stripes",
+    method: str | None = None,
     n_boot: int = 0,
     level: float = 0.9,
 ):
@@ -440,7 +481,9 @@ def study_fragility(
     ``building``: whose limit state (default: any building's). ``method``: ``"stripes"`` (binomial
     maximum likelihood over the levels) or ``"ida"`` (each record's capacity is the lowest level at
     which it reached the limit state; records that never did are censored at the highest level).
-    ``n_boot`` > 0 adds bootstrap percentile intervals (``level``). Returns a Dataset with
+    Default: stripes, or ida for a hunt-and-fill IDA (``ida_run`` dimension: every record has
+    levels of its own, and is censored at its highest run; no ``reached_fraction`` or
+    ``pounding_probability`` per level then). ``n_boot`` > 0 adds bootstrap percentile intervals (``level``). Returns a Dataset with
     ``fragility_median`` [g], ``fragility_beta``, their intervals (``_low``, ``_high``), the
     observed ``reached_fraction`` of the records per level, ``fit_note`` (why a fit is missing),
     ``pounding_probability`` (the fraction of the records that pound at each level) and, when the
@@ -448,45 +491,75 @@ def study_fragility(
     pounding lowers the capacity)."""
     import xarray as xr
 
-    if "im_level" not in ds.dims or "record" not in ds.dims:
+    hunt = "ida_run" in ds.dims
+    step = "ida_run" if hunt else "im_level"
+    if step not in ds.dims or "record" not in ds.dims:
         raise PoundingInputError(
             "fragility() needs a study Dataset with im_level and record axes (study.im, "
-            "study.im_level: records scaled to target intensities)"
+            "study.im_level: records scaled to target intensities) or a hunt-and-fill IDA"
         )
+    if method is None:
+        method = "ida" if hunt else "stripes"
     if method not in ("stripes", "ida"):
         raise PoundingInputError(f"method = {method!r}; allowed: stripes, ida")
+    if hunt and method == "stripes":
+        raise PoundingInputError(
+            "method = 'stripes': a hunt-and-fill IDA has no common levels to count collapses "
+            "at; allowed: ida"
+        )
     limits = [limit_state] if isinstance(limit_state, str | int | float) else list(limit_state)
-    levels = ds["im_level"].values.astype(float)
-    others = [d for d in ds["run_status"].dims if d not in ("record", "im_level")]
+    others = [d for d in ds["run_status"].dims if d not in ("record", step)]
+    if hunt:
+        run_levels = ds["ida_level"].transpose(*others, step, "record").values
+        top_level = float(np.nanmax(run_levels))
+    else:
+        levels = ds["im_level"].values.astype(float)
+        top_level = float(levels.max())
     labels = [_limit_label(v) for v in limits]
     shape = (len(limits), *(ds.sizes[d] for d in others))
     med, beta = np.full(shape, np.nan), np.full(shape, np.nan)
     lo, hi = np.full(shape, np.nan), np.full(shape, np.nan)
     b_lo, b_hi = np.full(shape, np.nan), np.full(shape, np.nan)
-    fraction = np.full((*shape, levels.size), np.nan)
-    grid = np.linspace(0.0, 1.15 * float(levels.max()), 116)[1:]
+    fraction = np.full((*shape, 0 if hunt else levels.size), np.nan)
+    capacities = np.full((*shape, ds.sizes["record"]), np.nan)
+    grid = np.linspace(0.0, 1.15 * top_level, 116)[1:]
     curve = np.full((*shape, grid.size), np.nan)
     band_lo, band_hi = np.full_like(curve, np.nan), np.full_like(curve, np.nan)
     notes = np.full(shape, "", dtype=object)
+    if hunt:
+        drift = _drift(ds, building).transpose(*others, step, "record").values
     for i, limit in enumerate(limits):
-        hit = _exceeded(ds, limit, building).transpose(*others, "im_level", "record")
+        hit = _exceeded(ds, limit, building).transpose(*others, step, "record")
         for index in np.ndindex(*shape[1:]):
-            runs = hit.values[index]  # (im_level, record)
+            runs = hit.values[index]  # (level or run, record)
+            lv = run_levels[index] if hunt else np.broadcast_to(levels[:, None], runs.shape)
             n = np.sum(np.isfinite(runs), axis=1)
             z = np.nansum(runs, axis=1)
-            with np.errstate(invalid="ignore"):
-                fraction[(i, *index)] = np.where(n > 0, z / np.maximum(n, 1), np.nan)
+            if not hunt:
+                with np.errstate(invalid="ignore"):
+                    fraction[(i, *index)] = np.where(n > 0, z / np.maximum(n, 1), np.nan)
+            # each record's capacity (lowest level reaching the limit state) and the highest
+            # level it was analysed at (where a record that never reached it is censored)
+            cap = np.full(runs.shape[1], np.inf)
+            top: float | np.ndarray = top_level
+            if method == "ida":
+                for r in range(runs.shape[1]):
+                    reached = runs[:, r] == 1.0
+                    if reached.any():
+                        cap[r] = float(np.min(lv[reached, r]))
+                    if hunt and limit != COLLAPSE and reached.any():
+                        cap[r] = _crossing(lv[:, r], drift[index][:, r], runs[:, r], float(limit))
+                if hunt:
+                    with np.errstate(invalid="ignore"):
+                        analysed = np.where(np.isfinite(runs), lv, np.nan)
+                    top = np.nanmax(np.where(np.isnan(analysed), -np.inf, analysed), axis=0)
+                capacities[(i, *index)] = np.where(np.isfinite(cap), cap, np.nan)
             try:
                 use = n > 0
-                cap = np.full(runs.shape[1], np.inf)
                 if method == "stripes":
                     fit = fit_stripes(levels[use], n[use], z[use])
                 else:
-                    for r in range(runs.shape[1]):
-                        reached = np.flatnonzero(runs[:, r] == 1.0)
-                        if reached.size:
-                            cap[r] = levels[reached[0]]
-                    fit = fit_ida(cap, censored_above=float(levels.max()))
+                    fit = fit_ida(cap, censored_above=top)
             except PoundingInputError as exc:
                 notes[(i, *index)] = str(exc)
                 continue
@@ -496,7 +569,6 @@ def study_fragility(
                         stripes = (levels[use], n[use], z[use])
                         fit = bootstrap(fit, stripes=stripes, n_boot=n_boot, level=level)
                     else:
-                        top = float(levels.max())
                         fit = bootstrap(fit, cap, censored_above=top, n_boot=n_boot, level=level)
                 except PoundingInputError as exc:
                     notes[(i, *index)] = str(exc)
@@ -507,6 +579,7 @@ def study_fragility(
                 lo[(i, *index)], hi[(i, *index)] = fit.median_ci
                 b_lo[(i, *index)], b_hi[(i, *index)] = fit.beta_ci  # type: ignore[misc]
     dims = ("limit_state", *others)
+    im_label = (ds["ida_level"] if hunt else ds["im_level"]).attrs.get("long_name", "intensity")
     out = xr.Dataset(
         {
             "fragility_median": (
@@ -515,11 +588,6 @@ def study_fragility(
                 {"units": "g", "long_name": "median capacity θ (fragility)"},
             ),
             "fragility_beta": (dims, beta, {"units": "1", "long_name": "lognormal dispersion β"}),
-            "reached_fraction": (
-                (*dims, "im_level"),
-                fraction,
-                {"units": "1", "long_name": "fraction of the records reaching the limit state"},
-            ),
             "fit_note": (dims, notes.astype(str), {"long_name": "why no fit (empty: fitted)"}),
             "probability": (
                 (*dims, "im"),
@@ -530,14 +598,23 @@ def study_fragility(
         coords={
             "limit_state": ("limit_state", labels, {"long_name": "limit state"}),
             **{d: ds[d] for d in others},
-            "im_level": ds["im_level"],
-            "im": (
-                "im",
-                grid,
-                {"units": "g", "long_name": ds["im_level"].attrs.get("long_name", "intensity")},
-            ),
+            "im": ("im", grid, {"units": "g", "long_name": im_label}),
         },
     )
+    if method == "ida":
+        out["capacity"] = (
+            (*dims, "record"),
+            capacities,
+            {"units": "g", "long_name": "intensity at which the record reached the limit state"},
+        )
+        out = out.assign_coords(record=ds["record"])
+    if not hunt:
+        out["reached_fraction"] = (
+            (*dims, "im_level"),
+            fraction,
+            {"units": "1", "long_name": "fraction of the records reaching the limit state"},
+        )
+        out = out.assign_coords(im_level=ds["im_level"])
     if n_boot:
         for name, values, side in (("low", band_lo, "lower"), ("high", band_hi, "upper")):
             out[f"probability_{name}"] = (
@@ -561,7 +638,7 @@ def study_fragility(
             b_hi,
             {"units": "1", "long_name": f"β, {level:.0%} high"},
         )
-    if "impact_count" in ds and "contact" in ds["impact_count"].dims:
+    if not hunt and "impact_count" in ds and "contact" in ds["impact_count"].dims:
         ok = ds["run_status"] == "ok"
         pounds = (ds["impact_count"].sum("contact") > 0).astype(float).where(ok)
         out["pounding_probability"] = pounds.mean("record").transpose(*others, "im_level")
@@ -581,6 +658,6 @@ def study_fragility(
         else "IDA capacities, truncated-IDA likelihood beyond the highest level (Baker 2015)",
         building=building or "any",
         intensity_measure=ds.attrs.get("intensity_measure", ""),
-        im_label=ds["im_level"].attrs.get("long_name", "intensity"),
+        im_label=im_label,
     )
     return out

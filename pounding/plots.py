@@ -872,7 +872,7 @@ def fragility_curves(fr: xr.Dataset) -> Figure:
     has one. ``fr`` from ``ds.pounding.fragility(...)``."""
     limits = [str(v) for v in fr["limit_state"].values]
     fig, axes = _figure(3.4, ncols=len(limits))
-    levels = fr["im_level"].values.astype(float)
+    levels = fr["im_level"].values.astype(float) if "im_level" in fr.coords else None
     from pounding.fragility import no_contact, variants
 
     dims = [d for d in fr["fragility_median"].dims if d != "limit_state"]
@@ -889,7 +889,12 @@ def fragility_curves(fr: xr.Dataset) -> Figure:
             name = ", ".join(parts) or "all runs"
             theta, beta = float(one["fragility_median"]), float(one["fragility_beta"])
             color = f"C{j}"
-            ax.plot(levels, one["reached_fraction"].values, "o", ms=3.5, color=color)
+            if levels is not None:
+                ax.plot(levels, one["reached_fraction"].values, "o", ms=3.5, color=color)
+            else:  # each record's capacity, as the empirical distribution (i − ½)/n
+                cap = np.sort(one["capacity"].values)
+                p = (np.arange(cap.size) + 0.5) / cap.size
+                ax.plot(cap, p, "o", ms=3.0, color=color)
             if np.isfinite(theta):
                 ax.plot(fr["im"].values, one["probability"].values, color=color, lw=1.2,
                         label=f"{name}: θ = {theta:.3g} g, β = {beta:.2g}")  # fmt: skip
@@ -914,7 +919,8 @@ def ida_curves(ds: xr.Dataset, building: str | None = None) -> Figure:
     per variant (the no-contact variant once); a collapsed run is drawn at the collapse drift."""
     from pounding.fragility import no_contact, variants
 
-    dims = [d for d in ds["run_status"].dims if d not in ("record", "im_level")]
+    step = "ida_run" if "ida_run" in ds.dims else "im_level"
+    dims = [d for d in ds["run_status"].dims if d not in ("record", step)]
     keep = variants(ds, dims)
     fig, axes = _figure(3.0, ncols=min(len(keep), 3), nrows=math.ceil(len(keep) / 3))
     drift = ds["peak_drift_ratio"].max("story")
@@ -925,14 +931,26 @@ def ida_curves(ds: xr.Dataset, building: str | None = None) -> Figure:
         collapsed = np.isfinite(ds["collapse_time"])
         collapsed = collapsed.sel(building=building) if building else collapsed.any("building")
         drift = drift.where(~collapsed, limit)
-    levels = ds["im_level"].values.astype(float)
+    level_var = ds["ida_level"] if step == "ida_run" else ds["im_level"]
+    grid = np.linspace(0.0, float(np.nanmax(level_var.values)), 61)
     for ax, at in zip(axes.ravel(), keep, strict=False):
-        d = drift.isel(at).transpose("record", "im_level").values * 100.0
-        for row in d:
-            ax.plot(np.concatenate(([0.0], row)), np.concatenate(([0.0], levels)), color="0.6",
-                    lw=0.5)  # fmt: skip
-        ax.plot(np.concatenate(([0.0], np.nanmedian(d, axis=0))), np.concatenate(([0.0], levels)),
-                color="C3", lw=1.8, label="median")  # fmt: skip
+        d = drift.isel(at).transpose("record", step).values * 100.0
+        lv = np.broadcast_to(level_var.isel(at, missing_dims="ignore").values, d.shape)
+        on_grid = np.full((d.shape[0], grid.size), np.nan)
+        for r, (row, lr) in enumerate(zip(d, lv, strict=True)):
+            ok = np.isfinite(row) & np.isfinite(lr)
+            order = np.argsort(lr[ok])
+            x, y = np.concatenate(([0.0], row[ok][order])), np.concatenate(([0.0], lr[ok][order]))
+            ax.plot(x, y, color="0.6", lw=0.5)
+            # drift at common intensities (up to the record's highest run) for the median
+            inside = grid <= y[-1]
+            on_grid[r, inside] = np.interp(grid[inside], y, x)
+            if x[-1] >= 100.0 * limit:  # collapsed: the flatline goes on above its last run
+                on_grid[r, ~inside] = x[-1]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # levels no record reached
+            median = np.nanmedian(on_grid, axis=0)
+        ax.plot(median, grid, color="C3", lw=1.8, label="median")
         ax.axvline(100.0 * limit, color="k", ls=":", lw=0.8)
         parts = []
         for dim, i in at.items():
@@ -946,6 +964,6 @@ def ida_curves(ds: xr.Dataset, building: str | None = None) -> Figure:
     for ax in axes.ravel()[len(keep) :]:
         ax.set_visible(False)
     for ax in axes[:, 0]:
-        ax.set_ylabel(f"{ds['im_level'].attrs.get('long_name', 'intensity')} [g]")
+        ax.set_ylabel(f"{level_var.attrs.get('long_name', 'intensity')} [g]")
     axes.ravel()[0].legend(fontsize="x-small", loc="lower right")
     return fig

@@ -230,11 +230,11 @@ class PoundingAccessor:
         limit_state: str | float | list[str | float] = "collapse",
         *,
         building: str | None = None,
-        method: str = "stripes",
+        method: str | None = None,
         n_boot: int = 0,
         level: float = 0.9,
     ) -> xr.Dataset:
-        """Lognormal fragility of a study with ``im_level`` stripes
+        """Lognormal fragility of a study with ``im_level`` stripes, or of a hunt-and-fill IDA
         (:func:`pounding.fragility.study_fragility`): per limit state (``"collapse"`` or a story
         drift ratio) and combination of the other axes, the median [g] and β, the fraction of the
         records reaching it per level and the median ratio with/without contact."""

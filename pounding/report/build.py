@@ -35,7 +35,8 @@ def report_kind(ds: xr.Dataset) -> str:
     """The report kind of a result: :func:`pounding.results.result_kind`, and ``"fragility"`` for a
     study with an ``im_level`` axis (an incremental dynamic analysis)."""
     kind = result_kind(ds)
-    return "fragility" if kind == "study" and "im_level" in ds.dims else kind
+    ida = "im_level" in ds.dims or "ida_run" in ds.dims
+    return "fragility" if kind == "study" and ida else kind
 
 
 def build_report(ds: xr.Dataset, *, store: str | Path | None = None) -> Report:

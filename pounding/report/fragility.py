@@ -136,14 +136,57 @@ def _pounding_table(fr: xr.Dataset) -> Table | None:
 
 def _records_table(ds: xr.Dataset) -> Table:
     rows = []
-    scale = ds["scale_factor"].values if "scale_factor" in ds else None
-    levels = ds["im_level"].values.astype(float)
+    hunt = "ida_run" in ds.dims
+    # per record: target levels and scale factors of its runs (every variant)
+    level = ds["ida_level"] if hunt else ds["im_level"].broadcast_like(ds["scale_factor"])
+    scale = ds["scale_factor"] if "scale_factor" in ds else None
     for r, name in enumerate(ds["record"].values):
         ref = str(ds["record_reference"].values[r]) if "record_reference" in ds else ""
-        im = levels[0] / scale[r, 0] if scale is not None and scale[r, 0] > 0 else math.nan
-        sf = f"{_g(scale[r].min(), 3)}–{_g(scale[r].max(), 3)}" if scale is not None else "–"
+        im, sf = math.nan, "–"
+        if scale is not None:
+            s = scale.isel(record=r).values.ravel()
+            lv = level.isel(record=r).values.ravel()
+            ok = np.isfinite(s) & (s > 0) & np.isfinite(lv)
+            if ok.any():
+                im = float(lv[ok][0] / s[ok][0])
+                sf = f"{_g(s[ok].min(), 3)}–{_g(s[ok].max(), 3)}"
         rows.append([str(name), ref, _g(im, 3), sf])
     return Table(["record", "reference", "IM as recorded [g]", "scale factors"], rows[:60])
+
+
+def _capacity_table(ds: xr.Dataset) -> Table | None:
+    """Per variant of a hunt-and-fill IDA: the collapse intensities bracketed, their median and
+    the records censored."""
+    if "collapse_im" not in ds:
+        return None
+    dims = [d for d in ds["collapse_im"].dims if d != "record"]
+    rows = []
+    for at in variants(ds, dims):
+        cap = ds["collapse_im"].isel(at).values
+        width = (ds["collapse_im"] - ds["collapse_im_lower"]).isel(at).values
+        found = np.isfinite(cap)
+        rows.append(
+            [
+                *_name(ds, at),
+                f"{int(found.sum())} of {cap.size}",
+                _g(float(np.median(np.where(found, cap, np.inf))), 3)
+                if 2 * found.sum() > cap.size
+                else "–",
+                _g(float(np.nanmax(width)), 2) if found.any() else "–",
+                _g(float(np.nanmin(ds["im_max_run"].isel(at).values[~found])), 3)
+                if (~found).any()
+                else "–",
+            ]
+        )
+    hunt = json.loads(ds.attrs.get("hunt", "{}"))
+    return Table(
+        [*_headers(ds, dims), "records with a capacity", "median [g]", "widest bracket [g]",
+         "lowest censoring level [g]"],
+        rows,
+        f"Hunt-and-fill capacities ({hunt.get('limit_state', 'collapse')}): the lowest level "
+        "reaching it, the bracket to the highest level below that did not, and the records "
+        "without one (censored at their highest run); the median counts them above all others.",
+    )  # fmt: skip
 
 
 def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
@@ -151,20 +194,29 @@ def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
     limits = _limit_states(ds)
     fr = ds.pounding.fragility(limits, n_boot=N_BOOT)
     im = json.loads(ds.attrs.get("intensity_measure", "{}"))
-    label = ds["im_level"].attrs.get("long_name", "intensity")
+    hunt = "ida_run" in ds.dims
+    label = (ds["ida_level"] if hunt else ds["im_level"]).attrs.get("long_name", "intensity")
     analysis = json.loads(ds.attrs.get("analysis", "{}"))
     collapse = float(analysis.get("collapse_drift") or 0.1)
-    n_rec, n_lev = ds.sizes["record"], ds.sizes["im_level"]
+    n_rec = ds.sizes["record"]
+    n_lev = ds.sizes["ida_run"] if hunt else ds.sizes["im_level"]
     failed = int((ds["run_status"] == "failed").sum())
     summary = Section("Executive summary")
     summary.blocks.extend(_executive(fr))
     summary.blocks.append(_fit_table(fr))
     curves = Section("Fragility curves")
-    curves.blocks.append(
-        f"Probability of reaching each limit state against {label}: the fraction of the {n_rec} "
-        "records that reached it at each level (markers) and the fitted lognormal curve with its "
-        "pointwise 90 % bootstrap band, per variant (any building)."
+    observed = (
+        "each record's capacity as the empirical distribution (markers)"
+        if hunt
+        else f"the fraction of the {n_rec} records that reached it at each level (markers)"
     )
+    curves.blocks.append(
+        f"Probability of reaching each limit state against {label}: {observed} and the fitted "
+        "lognormal curve with its pointwise 90 % bootstrap band, per variant (any building)."
+    )
+    capacities = _capacity_table(ds)
+    if capacities is not None:
+        summary.blocks.append(capacities)
     curves.blocks.append(Plot(plots.fragility_curves(fr), "Fragility curves."))
     pounding = _pounding_table(fr)
     if pounding is not None:
@@ -180,11 +232,27 @@ def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
             )
         )
     method = Section("Analysis")
+    if hunt:
+        h = json.loads(ds.attrs.get("hunt", "{}"))
+        levels = (
+            f"{n_rec} records traced by hunt-and-fill (Vamvatsikos & Cornell 2004): first "
+            f"{_g(h.get('first'), 3)} g, steps {_g(h.get('step'), 3)} g growing by "
+            f"{_g(h.get('step_increase'), 3)} g until {h.get('limit_state')}, then bisection to "
+            f"{_g(h.get('tolerance'), 3)} g and filling of the widest gaps below, at most "
+            f"{h.get('max_runs')} runs per record and {_g(h.get('max_level'), 3)} g (a failed run "
+            "counts as collapse); capacities of other drift limits are read off each record's "
+            "IDA curve, linear between its runs"
+        )
+    else:
+        levels = (
+            f"{n_rec} records × {n_lev} levels of {label} "
+            f"({', '.join(_g(v, 3) for v in ds['im_level'].values)} g)"
+        )
     method.blocks.append(
-        f"Incremental dynamic analysis (Vamvatsikos & Cornell 2002): {n_rec} records × {n_lev} "
-        f"levels of {label} ({', '.join(_g(v, 3) for v in ds['im_level'].values)} g), each record "
+        f"Incremental dynamic analysis (Vamvatsikos & Cornell 2002): {levels}, each record "
         f"scaled by SF = IM_target / IM(record) (intensity measure {im.get('measure', '')}, exact for "
-        "it), for every variant and without contact. Collapse: a building with yielding stories "
+        f"it), for every variant{'' if hunt else ' and without contact'}. Collapse: a building "
+        "with yielding stories "
         f"or P-Δ whose story drift ratio passes {collapse:g}, where the analysis stops (a Newton "
         "failure past it counts as collapse); a collapsed run reaches every drift limit state. "
         f"{failed} run(s) failed and are left out. Fits: {fr.attrs.get('method', '')}; "
@@ -193,7 +261,7 @@ def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
     method.blocks.append(_records_table(ds))
     sections = [summary, curves, ida, method, _model_section(ds, [])]
     meta = [
-        ("records × levels", f"{n_rec} × {n_lev}"),
+        ("records × levels", f"{n_rec} × {'up to ' if hunt else ''}{n_lev}"),
         ("intensity", f"{label} [g]"),
         ("pounding", str(ds.attrs.get("pounding_version", __version__))),
     ]

@@ -11,6 +11,7 @@ from pounding.risk.collapse_margin import (
     spectral_shape_factor,
     total_uncertainty,
 )
+from pounding.risk.ida_margin import ida_collapse_margin
 
 __all__ = [
     "MEASURES",
@@ -22,6 +23,7 @@ __all__ = [
     "collapse_margin",
     "fit_ida",
     "fit_stripes",
+    "ida_collapse_margin",
     "mce_spectral_acceleration",
     "spectral_shape_factor",
     "study_fragility",

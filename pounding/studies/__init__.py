@@ -49,7 +49,7 @@ the study Dataset).
 
 from pounding.studies.dataset import SUMMARY, assemble, histories, run_summary
 from pounding.studies.plan import StudyPlan, default_store, plan_study
-from pounding.studies.run import ProgressCallback, run_study
+from pounding.studies.run import ProgressCallback, run_hunt, run_study
 from pounding.studies.signals import StudyInterrupted, stop_on_signals
 from pounding.studies.spec import (
     HISTORY_VARIABLES,
@@ -87,6 +87,7 @@ __all__ = [
     "plan_study",
     "run_key",
     "run_log",
+    "run_hunt",
     "run_study",
     "run_summary",
     "stop_on_signals",

@@ -30,6 +30,7 @@ _AXIS_ATTRS: dict[str, dict[str, str]] = {
     "record": {"long_name": "ground motion record"},
     "scale": {"units": "1", "long_name": "record scale factor"},
     "im_level": {"units": "g", "long_name": "target intensity of the scaled records"},
+    "ida_run": {"units": "1", "long_name": "run of a record's hunt-and-fill trace, in order"},
 }
 # Units of dotted-path axes, by their last key.
 _PATH_UNITS = {
@@ -278,7 +279,8 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
             loaded[key] = xr.Dataset.from_dict(rec["summary"])
         return loaded[key]
 
-    keys = [*plan.keys.ravel(), *plan.baseline_keys.ravel()]
+    baselines = plan.baseline_keys is not None
+    keys = [*plan.keys.ravel(), *(plan.baseline_keys.ravel() if baselines else ())]
     runs = [get(k) for k in keys]
     ok = [r for r in runs if r is not None]
     buildings = list(study.case.system.building_names)
@@ -309,7 +311,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         )
     with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN slices of failed runs
-        for name, (amp, long_name) in _AMPLIFIED.items():
+        for name, (amp, long_name) in _AMPLIFIED.items() if baselines else ():
             dims, units, base_long = SUMMARY[name]
             base = gather(name, plan.baseline_keys)
             data[f"no_contact_{name}"] = (
@@ -327,17 +329,19 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
             .reshape(shape)
         )
 
-    status = text(lambda k: "failed" if k in errors else "ok", plan.keys)
-    error = text(lambda k: errors.get(k, ""), plan.keys)
-    # a failed baseline leaves the amplification undefined: say so in the error text
-    base_err = text(lambda k: errors.get(k, ""), plan.baseline_keys)
-    error = np.where(
-        (base_err != "") & (error == ""), np.char.add("no-contact run: ", base_err), error
-    )
+    # an empty key: a slot of a hunt-and-fill trace that needed no run
+    status = text(lambda k: "unused" if k == "" else "failed" if k in errors else "ok", plan.keys)
+    error = text(lambda k: errors.get(k, "") if k else "", plan.keys)
     data["run_status"] = (axis_dims, status, {})
-    data["run_error"] = (axis_dims, error, {})
     data["run_key"] = (axis_dims, plan.keys.astype(str), {})
-    data["baseline_key"] = (axis_dims, plan.baseline_keys.astype(str), {})
+    if baselines:
+        # a failed baseline leaves the amplification undefined: say so in the error text
+        base_err = text(lambda k: errors.get(k, ""), plan.baseline_keys)
+        error = np.where(
+            (base_err != "") & (error == ""), np.char.add("no-contact run: ", base_err), error
+        )
+        data["baseline_key"] = (axis_dims, plan.baseline_keys.astype(str), {})
+    data["run_error"] = (axis_dims, error, {})
     for name, value in {
         **_model_variables(study.case, width),
         **_record_variables(study.axes["record"]),
@@ -348,7 +352,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
     for name in names:
         _, values, attrs = _axis_coord(name, study.axes[name])
         coords[name] = (name, values, attrs)
-    if study.im is not None:
+    if "im_level" in coords:
         coords["im_level"][2]["long_name"] = f"target {study.im.label.removesuffix(' [g]')}"
         data["scale_factor"] = _scale_factors(study)
     coords.update(
@@ -380,7 +384,8 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         "run_key",
         "baseline_key",
     ):
-        ds[name].attrs.update(ATTRS[name])
+        if name in ds:
+            ds[name].attrs.update(ATTRS[name])
     n_failed = int((status == "failed").sum())
     ds.attrs.update(
         title=study.title,
@@ -430,3 +435,74 @@ def histories(ds: xr.Dataset, store: str | Path | None = None, **selection: Any)
             "histories: this run has no time histories (keep_histories = false)"
         )
     return run
+
+
+def assemble_hunt(
+    study: Study,
+    store: str | Path,
+    keys: np.ndarray,
+    levels: np.ndarray,
+    errors: Mapping[str, str],
+) -> xr.Dataset:
+    """The Dataset of a hunt-and-fill IDA: the study's variables over (variant axes..., record,
+    ida_run), each record's runs in the order they ran, with their target intensity ``ida_level``
+    [g], ``scale_factor`` and, per record, ``collapse_im`` (the lowest level that reached the hunt's
+    limit state; NaN when none did), ``collapse_im_lower`` (the highest level below it that did
+    not) and ``im_max_run`` (the highest level run: where a record without collapse is censored).
+    Slots a trace did not need have ``run_status`` "unused"."""
+    from pounding.studies.hunt import capacity
+
+    assert study.hunt is not None and study.im is not None
+    runs = tuple(range(keys.shape[-1]))
+    pseudo = dataclasses.replace(study, axes={**study.axes, "ida_run": runs})
+    plan = StudyPlan(pseudo, Path(store), keys, None, {}, (), dict(errors))
+    ds = assemble(plan)
+    dims = ds["run_status"].dims
+    reached = ds["run_status"] != "ok"
+    if "collapse_time" in ds:
+        reached = reached | np.isfinite(ds["collapse_time"]).any("building")
+    limit = study.hunt.limit_state
+    if limit != "collapse":
+        reached = reached | (ds["peak_drift_ratio"].max(["building", "story"]) >= float(limit))
+    hit = reached.values & (keys != "")
+    cap = np.full(keys.shape[:-1], np.nan)
+    lower, top = np.full_like(cap, np.nan), np.full_like(cap, np.nan)
+    scale = np.full(keys.shape, np.nan)
+    for index in np.ndindex(*keys.shape[:-1]):
+        used = [j for j in runs if keys[index][j] != "" and np.isfinite(levels[index][j])]
+        c, below, highest = capacity([(float(levels[index][j]), bool(hit[index][j])) for j in used])
+        if used:
+            cap[index] = c if np.isfinite(c) else np.nan
+            lower[index], top[index] = below, highest
+        record = study.axes["record"][index[-1]]
+        for j in used:
+            scale[index][j] = study.scale_factor(record, float(levels[index][j]))
+    measure = study.im.label.removesuffix(" [g]")
+    var_dims = dims[:-1]
+    ds["ida_level"] = (dims, levels, {"units": "g", "long_name": f"target {measure}"})
+    ds["scale_factor"] = (
+        dims,
+        scale,
+        {"units": "1", "long_name": "record scale factor to the target intensity"},
+    )
+    what = "collapse" if limit == "collapse" else f"story drift ratio {limit:g}"
+    ds["collapse_im"] = (
+        var_dims,
+        cap,
+        {"units": "g", "long_name": f"lowest {measure} reaching {what} (NaN: not reached)"},
+    )
+    ds["collapse_im_lower"] = (
+        var_dims,
+        lower,
+        {"units": "g", "long_name": f"highest {measure} below it not reaching {what}"},
+    )
+    ds["im_max_run"] = (
+        var_dims,
+        top,
+        {"units": "g", "long_name": f"highest {measure} run (censoring level)"},
+    )
+    ds.attrs.update(
+        hunt=json.dumps(study.hunt.to_dict()),
+        unique_runs=int(len({k for k in keys.ravel() if k})),
+    )
+    return ds

@@ -35,7 +35,7 @@ class StudyPlan:
     study: Study
     store: Path
     keys: np.ndarray  # run key per combination, shape study.shape
-    baseline_keys: np.ndarray
+    baseline_keys: np.ndarray | None  # None: no baselines (a hunt-and-fill IDA)
     tasks: dict[str, dict[str, Any]]
     todo: tuple[str, ...]
     failed_records: dict[str, str]
@@ -53,6 +53,62 @@ def default_store(result: str | Path) -> Path:
     return result.with_name(f"{result.stem}.runs")
 
 
+class _TaskBuilder:
+    """Each combination's case data, run key and run task, every distinct case validated once."""
+
+    def __init__(self, study: Study) -> None:
+        self.study = study
+        self.buildings = study.case.system.building_names
+        self.history_dt = study.history_dt if study.keep_histories else None
+        self.checked: dict[str, tuple[str, ...]] = {}
+
+    def key(self, combo: dict[str, Any], record: Record, scale: float | None, label: str) -> tuple:
+        """(run key, case data) of one combination (``law = "none"`` in ``combo`` for a
+        baseline); raises :class:`StudyError` naming the combination when it is invalid."""
+        try:
+            data = _combination_data(self.study, combo)
+        except StudyError as exc:
+            raise StudyError(f"{exc} (study combination {label})") from None
+        return run_key(data, record, scale), data
+
+    def task(
+        self, key: str, data: dict[str, Any], record: Record, scale: float | None, label: str
+    ) -> dict[str, Any]:
+        """The work of one run, after validating its case."""
+        study = self.study
+        text = json.dumps(data, sort_keys=True, default=str)
+        if text not in self.checked:
+            try:
+                case = case_from_dict(
+                    data, base_dir=study.base_dir, source=f"{study.source} ({label})"
+                )
+            except CaseError as exc:
+                law = data.get("contact", [{}])[0].get("law") if data.get("contact") else None
+                hint = (
+                    f"; parameters of one law go in [study.law_params.{law}]"
+                    if "law" in study.axes
+                    and law not in (None, NO_CONTACT)
+                    and "contact" in str(exc)
+                    else ""
+                )
+                raise StudyError(f"{exc}{hint}") from None
+            self.checked[text] = case.system.building_names
+        if self.checked[text] != self.buildings:
+            raise StudyError(
+                f"{study.source} ({label}): the buildings are {', '.join(self.checked[text])}; a "
+                f"study keeps the case's buildings {', '.join(self.buildings)}"
+            )
+        return {
+            "key": key,
+            "label": label,
+            "data": data,
+            "base_dir": None if study.base_dir is None else str(study.base_dir),
+            "motion": None if study.motion_from_case else record.motion,
+            "scale": scale,
+            "history_dt": self.history_dt,
+        }
+
+
 def plan_study(study: Study, store: str | Path, *, retry_failed: bool = False) -> StudyPlan:
     """Validate every combination and find the runs the store does not hold yet.
 
@@ -65,10 +121,8 @@ def plan_study(study: Study, store: str | Path, *, retry_failed: bool = False) -
     base_keys = np.empty(study.shape, dtype=object)
     tasks: dict[str, dict[str, Any]] = {}
     bad: dict[str, str] = {}
-    checked: dict[str, tuple[str, ...]] = {}
     factors: dict[tuple[str, float], float] = {}  # (record, im_level) -> scale factor
-    buildings = study.case.system.building_names
-    history_dt = study.history_dt if study.keep_histories else None
+    builder = _TaskBuilder(study)
     for index in itertools.product(*(range(n) for n in study.shape)):
         combo = {name: study.axes[name][i] for name, i in zip(names, index, strict=True)}
         record: Record = combo.pop("record")
@@ -83,47 +137,16 @@ def plan_study(study: Study, store: str | Path, *, retry_failed: bool = False) -
             sub = dict(combo)
             if baseline:
                 sub["law"] = NO_CONTACT
-            try:
-                data = _combination_data(study, sub)
-            except StudyError as exc:
-                raise StudyError(f"{exc} (study combination {label})") from None
-            key = run_key(data, record, scale)
+            key, data = builder.key(sub, record, scale, label)
             (base_keys if baseline else keys)[index] = key
             if record.motion is None and not study.motion_from_case:
                 bad[key] = record.error
                 continue
             if key in tasks:
                 continue
-            text = json.dumps(data, sort_keys=True, default=str)
-            if text not in checked:
-                try:
-                    case = case_from_dict(
-                        data, base_dir=study.base_dir, source=f"{study.source} ({label})"
-                    )
-                except CaseError as exc:
-                    law = sub.get("law")
-                    hint = (
-                        f"; parameters of one law go in [study.law_params.{law}]"
-                        if law not in (None, NO_CONTACT) and "contact" in str(exc)
-                        else ""
-                    )
-                    raise StudyError(f"{exc}{hint}") from None
-                checked[text] = case.system.building_names
-            if checked[text] != buildings:
-                raise StudyError(
-                    f"{study.source} ({label}): the buildings are {', '.join(checked[text])}; a "
-                    f"study keeps the case's buildings {', '.join(buildings)}"
-                )
-            tasks[key] = {
-                "key": key,
-                "label": label if not baseline else f"{label} [no contact]",
-                "data": data,
-                "base_dir": None if study.base_dir is None else str(study.base_dir),
-                "motion": None if study.motion_from_case else record.motion,
-                "scale": scale,
-                "history_dt": history_dt,
-            }
-    need = history_dt is not None
+            run_label = label if not baseline else f"{label} [no contact]"
+            tasks[key] = builder.task(key, data, record, scale, run_label)
+    need = builder.history_dt is not None
     todo = tuple(
         k for k in tasks if not _stored_ok(store, k, need_histories=need, retry=retry_failed)
     )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import concurrent.futures as cf
+import math
 import multiprocessing
 import os
 import signal
@@ -136,13 +137,25 @@ def _stop_workers(pool: cf.ProcessPoolExecutor, grace: float = 2.0) -> None:
             proc.kill()
 
 
-def _run_processes(tasks: list[dict], jobs: int, on_done: Callable[[dict], None]) -> None:
+def _run_processes(
+    tasks: list[dict],
+    jobs: int,
+    on_done: Callable[[dict], None],
+    keep: dict[str, Any] | None = None,
+) -> None:
+    """Run the tasks on worker processes; ``keep`` holds a pool to reuse from call to call (the
+    rounds of a hunt-and-fill IDA: starting workers costs seconds), shut down by the caller."""
     pending = list(tasks)
     restarts = 0
     while pending:
-        pool = cf.ProcessPoolExecutor(
-            max_workers=min(jobs, len(pending)), mp_context=_mp_context(), initializer=_worker_init
-        )
+        pool = keep.get("pool") if keep is not None else None
+        if pool is None:
+            workers = jobs if keep is not None else min(jobs, len(pending))
+            pool = cf.ProcessPoolExecutor(
+                max_workers=workers, mp_context=_mp_context(), initializer=_worker_init
+            )
+            if keep is not None:
+                keep["pool"] = pool
         finished: set[str] = set()
         try:
             futures = {pool.submit(_execute, t): t["key"] for t in pending}
@@ -156,9 +169,14 @@ def _run_processes(tasks: list[dict], jobs: int, on_done: Callable[[dict], None]
             _check_stop()
         except BaseException:
             _stop_workers(pool)
+            if keep is not None:
+                keep.pop("pool", None)
             raise
-        pool.shutdown(wait=True)
         pending = [t for t in pending if t["key"] not in finished]
+        if keep is None or pending:  # a broken pool is not kept
+            pool.shutdown(wait=True)
+            if keep is not None:
+                keep.pop("pool", None)
         if pending:
             # a SIGTERM sent to the whole process group also kills the workers: that is a stop,
             # not a crash to recover from by starting a new pool
@@ -261,22 +279,180 @@ def run_study(
             progress(done, len(todo), failed)
         _check_stop()  # stored first: a stop request never loses a finished run
 
-    n_jobs = max(1, int(jobs or _cores()))
     if todo:
         plan.store.mkdir(parents=True, exist_ok=True)
         with _store_lock(plan.store):
-            for stale in plan.store.glob(f".*{_TMP_SUFFIX}"):  # left by a killed run
-                stale.unlink(missing_ok=True)
-            if scheduler is not None:
-                _run_dask(todo, scheduler, on_done)
-            elif n_jobs == 1 or len(todo) == 1:
-                for task in todo:
-                    _check_stop()
-                    on_done(_execute(task))
-            else:
-                # the first run goes in this process: it compiles the kernels once and writes
-                # numba's disk cache, which the workers then load instead of compiling again
-                on_done(_execute(todo[0]))
-                _run_processes(todo[1:], n_jobs, on_done)
+            _clear_stale(plan.store)
+            _execute_all(todo, jobs, scheduler, on_done)
     _check_stop()
     return assemble(plan)
+
+
+def _clear_stale(store: Path) -> None:
+    for stale in store.glob(f".*{_TMP_SUFFIX}"):  # left by a killed run
+        stale.unlink(missing_ok=True)
+
+
+def _execute_all(
+    todo: list[dict],
+    jobs: int | None,
+    scheduler: Any,
+    on_done: Callable[[dict], None],
+    keep: dict[str, Any] | None = None,
+) -> None:
+    n_jobs = max(1, int(jobs or _cores()))
+    if scheduler is not None:
+        _run_dask(todo, scheduler, on_done)
+    elif n_jobs == 1 or len(todo) == 1:
+        for task in todo:
+            _check_stop()
+            on_done(_execute(task))
+    elif keep is not None and "pool" in keep:
+        _run_processes(todo, n_jobs, on_done, keep)
+    else:
+        # the first run goes in this process: it compiles the kernels once and writes
+        # numba's disk cache, which the workers then load instead of compiling again
+        on_done(_execute(todo[0]))
+        _run_processes(todo[1:], n_jobs, on_done, keep)
+
+
+# --------------------------------------------------------------------------------------------------
+# Hunt-and-fill IDA
+# --------------------------------------------------------------------------------------------------
+
+
+def _reached(record: Mapping[str, Any] | None, limit: str | float) -> bool:
+    """Whether a stored run reached the hunt's limit state (a failed run counts as collapse)."""
+    import numpy as np
+
+    if record is None or record["status"] != "ok":
+        return True
+    summary = record["summary"]["data_vars"]
+    if np.isfinite(np.asarray(summary["collapse_time"]["data"], dtype=float)).any():
+        return True
+    if limit == "collapse":
+        return False
+    drift = np.asarray(summary["peak_drift_ratio"]["data"], dtype=float)
+    return bool(np.nanmax(drift) >= float(limit))
+
+
+def run_hunt(
+    study: Study,
+    store: str | Path,
+    *,
+    jobs: int | None = None,
+    scheduler: Any = None,
+    progress: ProgressCallback | None = None,
+    retry_failed: bool = False,
+    on_round: Callable[[int, int], None] | None = None,
+) -> xr.Dataset:
+    """Trace every record of an IDA by hunt-and-fill (:mod:`pounding.studies.hunt`), resumably.
+
+    The runs of one round (the next level of every trace not yet complete) go out together, on
+    local processes or a dask cluster as in :func:`run_study`; each run is stored as it finishes.
+    A rerun replays the stored runs without running them again (the levels follow from the
+    results) and goes on where the study stopped. ``progress(done, total, failed)`` counts runs
+    against the budget still open (``max_runs`` per unfinished trace); ``on_round(round, runs)``
+    is called before each round. Returns :func:`pounding.studies.dataset.assemble_hunt`'s Dataset.
+    """
+    import itertools
+
+    import numpy as np
+
+    from pounding.studies.dataset import assemble_hunt
+    from pounding.studies.hunt import next_level
+    from pounding.studies.plan import _TaskBuilder
+    from pounding.studies.spec import _label
+    from pounding.studies.store import _read_record, _stored_ok
+
+    options = study.hunt
+    if options is None or study.im is None:
+        raise StudyError(f'{study.source}: run_hunt needs an [ida] table with levels = "hunt"')
+    store = Path(store)
+    builder = _TaskBuilder(study)
+    names = [n for n in study.axes if n != "record"]
+    records = study.axes["record"]
+    traces: list[dict[str, Any]] = []
+    for index in itertools.product(*(range(len(study.axes[n])) for n in names)):
+        combo = {n: study.axes[n][i] for n, i in zip(names, index, strict=True)}
+        for r, record in enumerate(records):
+            traces.append(
+                {"index": (*index, r), "combo": combo, "record": record, "runs": [], "done": False}
+            )
+    need = builder.history_dt is not None
+    errors: dict[str, str] = {}
+    ran: set[str] = set()  # keys run by this call: never run twice, even with retry_failed
+    done = failed = 0
+    round_no = 0
+    keep: dict[str, Any] = {}  # one worker pool for every round
+    try:
+        while True:
+            todo: dict[str, dict] = {}
+            waiting: list[tuple[dict, float, str]] = []
+            for trace in traces:
+                record = trace["record"]
+                while not trace["done"]:
+                    level = next_level([(lv, hit) for lv, _, hit in trace["runs"]], options)
+                    if record.motion is None:  # unreadable: one failed slot says why
+                        trace["done"] = True
+                        key = f"record-error:{record.name}"
+                        errors[key] = record.error
+                        trace["runs"].append((math.nan, key, True))
+                        break
+                    if level is None:
+                        trace["done"] = True
+                        break
+                    scale = study.scale_factor(record, level)
+                    label = _label(
+                        {**trace["combo"], "record": record, "im_level": round(level, 6)}
+                    )
+                    key, data = builder.key(dict(trace["combo"]), record, scale, label)
+                    retry = retry_failed and key not in ran
+                    if key in ran or _stored_ok(store, key, need_histories=need, retry=retry):
+                        hit = _reached(_read_record(store, key), options.limit_state)
+                        trace["runs"].append((level, key, hit))
+                        continue
+                    if key not in todo:
+                        todo[key] = builder.task(key, data, record, scale, label)
+                    waiting.append((trace, level, key))
+                    break
+            if not todo:
+                break
+            round_no += 1
+            if on_round:
+                on_round(round_no, len(todo))
+            # the runs still possible: what is left of the budget of every unfinished trace
+            total = done + sum(options.max_runs - len(t["runs"]) for t in traces if not t["done"])
+
+            def on_done(result: dict, total: int = total) -> None:
+                nonlocal done, failed
+                _write_run(store, result)
+                ran.add(result["record"]["key"])
+                done += 1
+                failed += result["record"]["status"] != "ok"
+                if progress:
+                    progress(done, total, failed)
+                _check_stop()
+
+            if progress:
+                progress(done, total, failed)
+            store.mkdir(parents=True, exist_ok=True)
+            with _store_lock(store):
+                _clear_stale(store)
+                tasks = list(todo.values())
+                _execute_all(tasks, jobs, scheduler, on_done, keep)
+                for trace, level, key in waiting:
+                    hit = _reached(_read_record(store, key), options.limit_state)
+                    trace["runs"].append((level, key, hit))
+    finally:
+        if "pool" in keep:
+            keep.pop("pool").shutdown(wait=True)
+    _check_stop()
+    shape = (*(len(study.axes[n]) for n in names), len(records), options.max_runs)
+    keys = np.full(shape, "", dtype=object)
+    levels = np.full(shape, np.nan)
+    for trace in traces:
+        for j, (level, key, _) in enumerate(trace["runs"]):
+            keys[(*trace["index"], j)] = key
+            levels[(*trace["index"], j)] = level
+    return assemble_hunt(study, store, keys, levels, errors)

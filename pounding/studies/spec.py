@@ -20,12 +20,13 @@ from pounding.contact.laws import get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.intensity import MEASURES, IntensityMeasure
+from pounding.studies.hunt import HuntOptions
 from pounding.units import G
 
 #: Axes with a meaning of their own; any other axis is a dotted path into the case.
 NAMED_AXES = ("law", "gap", "e", "k", "record", "scale", "im_level")
 #: Keys of ``[study]`` that are options, not axes.
-STUDY_OPTIONS = ("law_params", "keep_histories", "history_dt", "im", "limit_states")
+STUDY_OPTIONS = ("law_params", "keep_histories", "history_dt", "im", "limit_states", "hunt")
 #: Keys of an ``im`` table beside ``measure``.
 IM_KEYS = ("building", "period", "period_low", "period_high", "n_periods", "damping")
 #: The ``law`` value that removes every contact (the no-contact baseline).
@@ -82,6 +83,8 @@ class Study:
     im: IntensityMeasure | None = None
     #: limit states for the fragility of an IDA: "collapse" or story drift ratios
     limit_states: tuple[str | float, ...] = ("collapse",)
+    #: hunt-and-fill levels per record instead of the ``im_level`` axis (``[ida] levels = "hunt"``)
+    hunt: HuntOptions | None = None
 
     def scale_factor(self, record: Record, level: float) -> float:
         """The factor that brings ``record`` to intensity ``level`` [g] of :attr:`im`."""
@@ -260,7 +263,18 @@ def study_from_dict(
     _check_number("k", axes.get("k", ()), source, 0.0, "a number > 0 [N/m^n]")
     _check_number("scale", axes.get("scale", ()), source, -math.inf, "a finite number")
     _check_number("im_level", axes.get("im_level", ()), source, 0.0, "a number > 0 [g]")
-    if ("im_level" in axes) != ("im" in spec):
+    hunt = None
+    if "hunt" in spec:
+        try:
+            hunt = HuntOptions.from_table(spec["hunt"])
+        except PoundingInputError as exc:
+            raise StudyError(f"{source}: {exc}") from None
+        if "im_level" in axes or "scale" in axes:
+            raise StudyError(
+                f'{source}: ida.levels = "hunt" chooses each record\'s levels; it cannot be '
+                "combined with study.im_level or study.scale"
+            )
+    if ("im_level" in axes or hunt is not None) != ("im" in spec):
         raise StudyError(
             f"{source}: study.im_level (target intensities [g]) and study.im (the intensity "
             f"measure: {', '.join(MEASURES)}) go together"
@@ -310,12 +324,13 @@ def study_from_dict(
         motion_from_case=motion_from_case,
         im=_intensity_measure(spec["im"], base, source) if "im" in spec else None,
         limit_states=_limit_states(spec.get("limit_states", ["collapse"]), source),
+        hunt=hunt,
     )
     return study
 
 
 #: Keys of an ``[ida]`` table beside the study's axes and options.
-IDA_KEYS = ("im", "levels", "records")
+IDA_KEYS = ("im", "levels", "records", "hunt")
 
 
 def _limit_states(value: Any, source: str) -> tuple[str | float, ...]:
@@ -348,7 +363,15 @@ def _ida_as_study(ida: Any, source: str) -> dict[str, Any]:
             )
     spec = {k: v for k, v in ida.items() if k not in IDA_KEYS}
     spec["im"] = ida.get("im", "sa")
-    spec["im_level"] = ida["levels"]
+    if ida["levels"] == "hunt":
+        spec["hunt"] = ida.get("hunt", {})
+    elif "hunt" in ida:
+        raise StudyError(
+            f'{source}: ida.hunt sets the hunt-and-fill schedule; give it with levels = "hunt" '
+            "(or a list of levels [g] without ida.hunt)"
+        )
+    else:
+        spec["im_level"] = ida["levels"]
     records = ida["records"]
     spec["record"] = [records] if isinstance(records, str) else records
     return spec
