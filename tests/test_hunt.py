@@ -435,3 +435,57 @@ def test_collapse_margin_needs_an_ida_scaled_to_sa(hunted):
     pga.attrs["intensity_measure"] = json.dumps({"measure": "pga"})
     with pytest.raises(PoundingInputError, match="intensity measure is pga; allowed: sa"):
         ida_collapse_margin(pga, ductility=3.0)
+
+
+# --------------------------------------------------------------------------------------------------
+# FEMA P695 set scaling
+# --------------------------------------------------------------------------------------------------
+
+
+def test_set_scaling_normalises_by_pgv_and_brings_the_sets_median_to_the_level(tmp_path):
+    from scipy.integrate import cumulative_trapezoid
+
+    case = _case(max_runs=10, step=0.3)
+    case["ida"].update(law=["none"], scaling="set")
+    study = study_from_dict(case, base_dir=ROOT)
+    recs = study.axes["record"]
+    pgv = np.array(
+        [np.abs(cumulative_trapezoid(r.motion.acceleration, dx=r.motion.dt)).max() for r in recs]
+    )
+    nm = np.array([study.normalisation(r) for r in recs])
+    np.testing.assert_allclose(nm * pgv, np.median(pgv), rtol=1e-12)
+    for level in (0.3, 1.7):
+        sf = np.array([study.scale_factor(r, level) for r in recs])
+        # one factor for the whole normalised set, and its median Sa(T) is the level
+        np.testing.assert_allclose(sf / nm, sf[0] / nm[0], rtol=1e-12)
+        sa = np.array([f * study.im.of(r.motion) for f, r in zip(sf, recs, strict=True)])
+        assert np.median(sa) == pytest.approx(level * 9.80665, rel=1e-12)
+    ds = run_hunt(study, tmp_path / "runs", jobs=1)
+    assert ds.attrs["scaling"] == "set"
+    assert "median" in ds["ida_level"].attrs["long_name"]
+    np.testing.assert_allclose(ds["normalisation_factor"].values, nm)
+    np.testing.assert_allclose(
+        ds["record_im"].values, [study.im.of(r.motion) / 9.80665 for r in recs], rtol=1e-12
+    )
+    from pounding.risk import ida_collapse_margin
+
+    cm = ida_collapse_margin(ds, ductility=3.0)
+    cap = ds["collapse_im"].sel(law="none").values
+    assert np.isfinite(cap).sum() >= 2
+    # P695's Ŝ_CT: the set level at which half the records (2 of 3) have collapsed
+    assert float(cm["median_collapse_sa"].sel(law="none")) == pytest.approx(np.sort(cap)[1])
+    assert "PGV-normalised set scaled together" in cm.attrs["method"]
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"scaling": "suite"}, "scaling = 'suite'; allowed: record, set"),
+        ({"scaling": "set", "records": [RECORD]}, "1 readable record\\(s\\) given, allowed: 2"),
+    ],
+)
+def test_bad_scaling_is_refused_before_anything_runs(change, message):
+    case = _case()
+    case["ida"].update(change)
+    with pytest.raises(StudyError, match=message):
+        study_from_dict(case, base_dir=ROOT)

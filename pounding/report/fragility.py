@@ -150,6 +150,8 @@ def _records_table(ds: xr.Dataset) -> Table:
             if ok.any():
                 im = float(lv[ok][0] / s[ok][0])
                 sf = f"{_g(s[ok].min(), 3)}–{_g(s[ok].max(), 3)}"
+        if "record_im" in ds:
+            im = float(ds["record_im"].values[r])
         rows.append([str(name), ref, _g(im, 3), sf])
     return Table(["record", "reference", "IM as recorded [g]", "scale factors"], rows[:60])
 
@@ -248,10 +250,17 @@ def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
             f"{n_rec} records × {n_lev} levels of {label} "
             f"({', '.join(_g(v, 3) for v in ds['im_level'].values)} g)"
         )
+    measure = im.get("measure", "")
+    scaled = (
+        "the records normalised by their PGV (NM = median PGV / PGV) and scaled together so that "
+        f"the set's median {measure} is the level (FEMA P695 Sec. 6.2)"
+        if ds.attrs.get("scaling") == "set"
+        else f"each record scaled by SF = IM_target / IM(record) (intensity measure {measure}, "
+        "exact for it)"
+    )
     method.blocks.append(
-        f"Incremental dynamic analysis (Vamvatsikos & Cornell 2002): {levels}, each record "
-        f"scaled by SF = IM_target / IM(record) (intensity measure {im.get('measure', '')}, exact for "
-        f"it), for every variant{'' if hunt else ' and without contact'}. Collapse: a building "
+        f"Incremental dynamic analysis (Vamvatsikos & Cornell 2002): {levels}, {scaled}, "
+        f"for every variant{'' if hunt else ' and without contact'}. Collapse: a building "
         "with yielding stories "
         f"or P-Δ whose story drift ratio passes {collapse:g}, where the analysis stops (a Newton "
         "failure past it counts as collapse); a collapsed run reaches every drift limit state. "

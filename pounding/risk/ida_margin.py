@@ -1,12 +1,15 @@
 """The FEMA P695 collapse margin of every variant of an incremental dynamic analysis.
 
-The records of the IDA are scaled one by one to Sa(T) (``im = "sa"``), so each record's collapse
-intensity is read off directly: the lowest level at which it collapsed (a hunt-and-fill IDA brackets
-it to its tolerance; listed levels give it to their spacing). Ŝ_CT is the median of these, records
-that never collapsed ranking above all others. FEMA P695 instead normalises the far-field set by PGV
-and scales it as a whole until half the records collapse; with record-by-record scaling to Sa(T) the
-record-to-record dispersion of Sa(T) is removed from the set, which the spectral shape factor and
-β_RTR already account for — the numbers are comparable, not identical.
+Each record's collapse intensity is the lowest level at which it collapsed (a hunt-and-fill IDA
+brackets it to its tolerance; listed levels give it to their spacing), and Ŝ_CT is their median,
+records that never collapsed ranking above all others.
+
+With ``scaling = "set"`` the levels are those of FEMA P695 (Sec. 6.2): the records normalised by
+their PGV (NM_i = median PGV / PGV_i) and scaled together so that the set's median Sa(T) is the
+level; the median of the collapse levels is then the level at which half the records collapse,
+P695's Ŝ_CT exactly (with the set's median spectrum from the records analysed rather than FEMA's
+tabulated one). With the default ``scaling = "record"`` each record is scaled to Sa(T) on its own:
+the record-to-record dispersion of Sa(T) is removed, and the numbers are comparable, not identical.
 """
 
 from __future__ import annotations
@@ -91,6 +94,14 @@ def ida_collapse_margin(
         res["cmr_ratio"] = ratio.assign_attrs(
             units="1", long_name="CMR with contact / without (below 1: pounding lowers the margin)"
         )
+    scaling = str(ds.attrs.get("scaling", "record"))
+    how = (
+        "the PGV-normalised set scaled together (FEMA P695 Sec. 6.2; its median spectrum from these "
+        "records, not FEMA's table), Ŝ_CT the set intensity at which half the records collapsed"
+        if scaling == "set"
+        else "records scaled one by one, not as a PGV-normalised set; Ŝ_CT the median of the "
+        "records' collapse Sa(T)"
+    )
     res.attrs.update(
         period=first.period,
         sdc=first.sdc,
@@ -102,9 +113,9 @@ def ida_collapse_margin(
         ductility=float(ductility),
         ratings=f"design {design}, test {test}, model {model}",
         building=building or "any",
+        scaling=scaling,
         method=(
-            "FEMA P695: Ŝ_CT the median of the records' collapse Sa(T) (records scaled one by one, "
-            "not as a PGV-normalised set; records without a collapse rank above all others), "
+            f"FEMA P695: {how} (records without a collapse rank above all others), "
             "CMR = Ŝ_CT/S_MT, ACMR = SSF·CMR (Appendix B), β_TOT (Eq. 7-5), ACMR20 % (Table 7-3)"
         ),
     )

@@ -21,6 +21,7 @@ from pounding.results import ATTRS
 from pounding.studies.plan import StudyPlan
 from pounding.studies.spec import LAW_PARAM_KEYS, NO_CONTACT, Record, Study, _combination_data
 from pounding.studies.store import _read_record, open_run
+from pounding.units import G
 
 _AXIS_ATTRS: dict[str, dict[str, str]] = {
     "law": {"long_name": "contact law (every contact)"},
@@ -353,8 +354,23 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         _, values, attrs = _axis_coord(name, study.axes[name])
         coords[name] = (name, values, attrs)
     if "im_level" in coords:
-        coords["im_level"][2]["long_name"] = f"target {study.im.label.removesuffix(' [g]')}"
+        coords["im_level"][2]["long_name"] = study.level_label
         data["scale_factor"] = _scale_factors(study)
+    if study.im is not None:
+        im = study.im
+        data["record_im"] = (
+            ("record",),
+            np.array([im.of(r.motion) / G if r.motion else np.nan for r in study.axes["record"]]),
+            {"units": "g", "long_name": f"{im.label.removesuffix(' [g]')} of the record as read"},
+        )
+    if study.im is not None and study.scaling == "set":
+        data["normalisation_factor"] = (
+            ("record",),
+            np.array(
+                [study.normalisation(r) if r.motion else np.nan for r in study.axes["record"]]
+            ),
+            {"units": "1", "long_name": "PGV normalisation NM = median(PGV)/PGV (FEMA P695)"},
+        )
     coords.update(
         building=("building", np.array(buildings, dtype=object).astype(str), ATTRS["building"]),
         floor=("floor", np.arange(1, width + 1), ATTRS["floor"]),
@@ -400,6 +416,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         store=str(plan.store.resolve()),
         analysis=json.dumps(dataclasses.asdict(study.case.analysis), default=str),
         intensity_measure=json.dumps(study.im.to_dict() if study.im else {}),
+        scaling=study.scaling,
         limit_states=json.dumps(list(study.limit_states)),
         pounding_version=__version__,
         created=datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
@@ -479,7 +496,7 @@ def assemble_hunt(
             scale[index][j] = study.scale_factor(record, float(levels[index][j]))
     measure = study.im.label.removesuffix(" [g]")
     var_dims = dims[:-1]
-    ds["ida_level"] = (dims, levels, {"units": "g", "long_name": f"target {measure}"})
+    ds["ida_level"] = (dims, levels, {"units": "g", "long_name": study.level_label})
     ds["scale_factor"] = (
         dims,
         scale,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import functools
 import hashlib
 import json
 import math
@@ -26,7 +27,17 @@ from pounding.units import G
 #: Axes with a meaning of their own; any other axis is a dotted path into the case.
 NAMED_AXES = ("law", "gap", "e", "k", "record", "scale", "im_level")
 #: Keys of ``[study]`` that are options, not axes.
-STUDY_OPTIONS = ("law_params", "keep_histories", "history_dt", "im", "limit_states", "hunt")
+STUDY_OPTIONS = (
+    "law_params",
+    "keep_histories",
+    "history_dt",
+    "im",
+    "limit_states",
+    "hunt",
+    "scaling",
+)
+#: How records reach a target intensity: one by one, or as a PGV-normalised set (FEMA P695).
+SCALINGS = ("record", "set")
 #: Keys of an ``im`` table beside ``measure``.
 IM_KEYS = ("building", "period", "period_low", "period_high", "n_periods", "damping")
 #: The ``law`` value that removes every contact (the no-contact baseline).
@@ -85,11 +96,46 @@ class Study:
     limit_states: tuple[str | float, ...] = ("collapse",)
     #: hunt-and-fill levels per record instead of the ``im_level`` axis (``[ida] levels = "hunt"``)
     hunt: HuntOptions | None = None
+    #: "record": each record scaled to the level; "set": the records normalised by their PGV and
+    #: scaled together so that the set's median intensity is the level (FEMA P695 Sec. 6.2)
+    scaling: str = "record"
 
     def scale_factor(self, record: Record, level: float) -> float:
-        """The factor that brings ``record`` to intensity ``level`` [g] of :attr:`im`."""
+        """The factor that brings ``record`` to intensity ``level`` [g] of :attr:`im` (with set
+        scaling: its PGV normalisation times the factor that brings the normalised set's median
+        to ``level``)."""
         assert self.im is not None
+        if self.scaling == "set":
+            normal, median = self._set_statistics
+            return normal[record.name] * level * G / median
         return self.im.scale_factor(record.motion, level * G)  # type: ignore[arg-type]
+
+    def normalisation(self, record: Record) -> float:
+        """FEMA P695's NM_i = median(PGV)/PGV_i of a record (1 when records are scaled one by
+        one)."""
+        return self._set_statistics[0][record.name] if self.scaling == "set" else 1.0
+
+    @functools.cached_property
+    def _set_statistics(self) -> tuple[dict[str, float], float]:
+        """({record: NM_i}, the median intensity [m/s²] of the normalised set)."""
+        assert self.im is not None
+        from pounding.ground_motion import ground_velocity
+
+        recs = [r for r in self.axes["record"] if r.motion is not None]
+        pgv = {r.name: float(np.max(np.abs(ground_velocity(r.motion)))) for r in recs}
+        median_pgv = float(np.median(list(pgv.values())))
+        normal = {name: median_pgv / v for name, v in pgv.items()}
+        median = float(np.median([normal[r.name] * self.im.of(r.motion) for r in recs]))
+        return normal, median
+
+    @property
+    def level_label(self) -> str:
+        """What a level [g] is: ``target Sa(0.52 s, 5 %)``, or the set's median of it."""
+        assert self.im is not None
+        measure = self.im.label.removesuffix(" [g]")
+        if self.scaling == "set":
+            return f"target median {measure} of the PGV-normalised set"
+        return f"target {measure}"
 
     @property
     def title(self) -> str:
@@ -274,6 +320,11 @@ def study_from_dict(
                 f'{source}: ida.levels = "hunt" chooses each record\'s levels; it cannot be '
                 "combined with study.im_level or study.scale"
             )
+    scaling = spec.get("scaling", "record")
+    if scaling not in SCALINGS:
+        raise StudyError(f"{source}: scaling = {scaling!r}; allowed: {', '.join(SCALINGS)}")
+    if scaling == "set" and "im" not in spec:
+        raise StudyError(f'{source}: scaling = "set" scales records to an intensity: give im')
     if ("im_level" in axes or hunt is not None) != ("im" in spec):
         raise StudyError(
             f"{source}: study.im_level (target intensities [g]) and study.im (the intensity "
@@ -325,7 +376,18 @@ def study_from_dict(
         im=_intensity_measure(spec["im"], base, source) if "im" in spec else None,
         limit_states=_limit_states(spec.get("limit_states", ["collapse"]), source),
         hunt=hunt,
+        scaling=scaling,
     )
+    if scaling == "set":
+        usable = [r for r in study.axes["record"] if r.motion is not None]
+        if len(usable) < 2:
+            raise StudyError(
+                f'{source}: scaling = "set" normalises a set of records; {len(usable)} readable '
+                "record(s) given, allowed: 2 or more"
+            )
+        flat = [r.name for r in usable if not np.max(np.abs(r.motion.acceleration)) > 0]
+        if flat:
+            raise StudyError(f"{source}: record {flat[0]!r} is all zeros: it cannot be scaled")
     return study
 
 
