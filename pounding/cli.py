@@ -619,6 +619,18 @@ class _ProgressBar:
             typer.echo(line, err=True)
 
 
+def _interrupted(exc: KeyboardInterrupt, store: Any) -> typer.Exit:
+    """Say where the finished runs are; the exit by the shell's convention: 130 after SIGINT,
+    143 after SIGTERM."""
+    import signal
+
+    typer.echo(
+        f"\ninterrupted: finished runs are stored in {store}; run the same command again to resume",
+        err=True,
+    )
+    return typer.Exit(code=128 + getattr(exc, "signum", signal.SIGINT))
+
+
 def _run_study_command(
     case: str,
     output: str,
@@ -630,7 +642,6 @@ def _run_study_command(
     """Plan, run (resumable, in parallel) and save a study; the Dataset, the start time and the
     run store (as given or defaulted, for the closing line)."""
     _netcdf_output(output)
-    import signal
     import time
 
     from pounding.results import save
@@ -669,13 +680,7 @@ def _run_study_command(
         with stop_on_signals():
             ds = run_study(plan, jobs=jobs, scheduler=scheduler, progress=_ProgressBar())
     except KeyboardInterrupt as exc:
-        typer.echo(
-            f"\ninterrupted: finished runs are stored in {plan.store}; run the same command "
-            "again to resume",
-            err=True,
-        )
-        # the shell's convention: 130 after SIGINT, 143 after SIGTERM
-        raise typer.Exit(code=128 + getattr(exc, "signum", signal.SIGINT)) from None
+        raise _interrupted(exc, plan.store) from None
     save(ds, output)
     failed = int((ds["run_status"] == "failed").sum())
     if failed:
@@ -695,7 +700,6 @@ def _run_hunt_command(
     retry_failed: bool,
 ) -> tuple[Any, float, Any]:
     """Trace every record of a hunt-and-fill IDA (resumable, in rounds of parallel runs)."""
-    import signal
     import time
 
     import numpy as np
@@ -728,12 +732,7 @@ def _run_hunt_command(
                 retry_failed=retry_failed,
             )
     except KeyboardInterrupt as exc:
-        typer.echo(
-            f"\ninterrupted: finished runs are stored in {store_dir}; run the same command "
-            "again to resume",
-            err=True,
-        )
-        raise typer.Exit(code=128 + getattr(exc, "signum", signal.SIGINT)) from None
+        raise _interrupted(exc, store_dir) from None
     save(ds, output)
     runs = int(ds.attrs["unique_runs"])
     censored = int(np.isnan(ds["collapse_im"]).sum())

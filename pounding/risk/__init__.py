@@ -8,6 +8,7 @@ from pounding.risk.collapse_margin import (
     acceptable_acmr,
     collapse_margin,
     mce_spectral_acceleration,
+    period_based_ductility,
     spectral_shape_factor,
     total_uncertainty,
 )
@@ -25,6 +26,7 @@ __all__ = [
     "fit_stripes",
     "ida_collapse_margin",
     "mce_spectral_acceleration",
+    "period_based_ductility",
     "spectral_shape_factor",
     "study_fragility",
     "total_uncertainty",

@@ -43,6 +43,13 @@ HUNT_KEYS = (
 )
 
 
+def is_limit_state(value: Any) -> bool:
+    """``"collapse"`` or a story drift ratio (0 < value < 10)."""
+    return value == "collapse" or (
+        isinstance(value, int | float) and not isinstance(value, bool) and 0.0 < value < 10.0
+    )
+
+
 @dataclasses.dataclass(frozen=True)
 class HuntOptions:
     """The hunt-and-fill schedule of one IDA: intensities in g of the study's measure."""
@@ -75,10 +82,7 @@ class HuntOptions:
                 f"{self.max_level!r}; allowed: first <= max_level [g]"
             )
         limit = self.limit_state
-        ok = limit == "collapse" or (
-            isinstance(limit, int | float) and not isinstance(limit, bool) and 0.0 < limit < 10.0
-        )
-        if not ok:
+        if not is_limit_state(limit):
             raise PoundingInputError(
                 f'ida.hunt.limit_state = {limit!r}; allowed: "collapse" or a story drift ratio '
                 "(e.g. 0.05)"

@@ -21,7 +21,7 @@ from pounding.contact.laws import get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.intensity import MEASURES, IntensityMeasure
-from pounding.studies.hunt import HuntOptions
+from pounding.studies.hunt import HuntOptions, is_limit_state
 from pounding.units import G
 
 #: Axes with a meaning of their own; any other axis is a dotted path into the case.
@@ -399,10 +399,7 @@ def _limit_states(value: Any, source: str) -> tuple[str | float, ...]:
     """``limit_states = ["collapse", 0.005, 0.015]``: collapse or story drift ratios."""
     values = value if isinstance(value, list) else [value]
     for v in values:
-        ok = v == "collapse" or (
-            isinstance(v, int | float) and not isinstance(v, bool) and 0.0 < v < 10.0
-        )
-        if not ok:
+        if not is_limit_state(v):
             raise StudyError(
                 f'{source}: limit_states value {v!r}; allowed: "collapse" or a story drift '
                 "ratio > 0 (e.g. 0.015 for 1.5 %)"
