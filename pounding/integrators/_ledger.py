@@ -87,8 +87,9 @@ def account_energy(md, hs, g0, g1, x0, tr, gaps, fr, el, en, wk):
     (input, damping, contact, friction, families). The Newmark identity makes these exact for
     average acceleration; the algorithmic term of other schemes is :func:`account_algorithmic`."""
     u, v, a = x0
-    du = wk.vec[0]
-    vs = wk.vec[1]
+    # the scratch rows are max(n, Woodbury rows) long: only their first n entries are this step's
+    du = wk.vec[0, : u.size]
+    vs = wk.vec[1, : u.size]
     g_avg = 0.5 * (g0 + g1)
     for i in range(u.size):
         du[i] = tr.u1[i] - u[i]
@@ -110,8 +111,8 @@ def account_algorithmic(md, sch, hs, x0, tr, r0, r1, en, wk):
     is known; r0 becomes r1 for the next step."""
     u, v, a = x0
     n = u.size
-    du = wk.vec[0]
-    s = wk.vec[1]
+    du = wk.vec[0, :n]
+    s = wk.vec[1, :n]
     step = 0.0
     for i in range(n):
         step -= 0.5 * (tr.u1[i] - u[i]) * (r0[i] + r1[i])

@@ -49,7 +49,7 @@ def _band_quadratic(AbT, bw, x):
     """xᵀ A x for A given by its diagonals, ``AbT`` = band rows transposed ((2 bw + 1) × n,
     contiguous), one diagonal at a time: each a unit-stride loop the compiler vectorises (row-wise
     loops with clipped bounds cost several times more at these sizes)."""
-    n = x.size
+    n = AbT.shape[1]  # A's order, not the vector's length (a scratch row may be longer)
     total = 0.0
     for k in range(2 * bw + 1):
         off = k - bw
@@ -63,7 +63,7 @@ def _band_quadratic(AbT, bw, x):
 @jit
 def _band_bilinear(AbT, bw, x, y):
     """xᵀ A y for A given by its diagonals (as :func:`_band_quadratic`)."""
-    n = x.size
+    n = AbT.shape[1]
     total = 0.0
     for k in range(2 * bw + 1):
         off = k - bw
