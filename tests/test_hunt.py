@@ -380,7 +380,7 @@ def test_hunt_cli_report_and_plots(hunted, tmp_path):
 
     write_report(ds, tmp_path / "rep")
     html = (tmp_path / "rep" / "report.html").read_text()
-    assert "Hunt-and-fill capacities" in html and "records traced by hunt-and-fill" in html
+    assert "Collapse capacities" in html and "records traced by hunt-and-fill" in html
 
 
 # --------------------------------------------------------------------------------------------------

@@ -220,3 +220,16 @@ def test_hunt_example_file_is_a_p695_set_traced_by_hunt_and_fill():
     sf = np.array([study.scale_factor(r, 1.0) for r in study.axes["record"]])
     sa = sf * np.array([study.im.of(r.motion) for r in study.axes["record"]])
     assert np.median(sa) == pytest.approx(G, rel=1e-12)
+
+
+def test_ida_dataset_has_story_shear_and_each_records_collapse_intensity(ida_run):
+    _, ds = ida_run
+    assert ds["peak_story_shear"].attrs["units"] == "N"
+    assert (ds["peak_story_shear"].sel(building="A").isel(story=0) > 0).all()
+    for law in ("none", "hertz"):
+        for r in range(ds.sizes["record"]):
+            one = ds.sel(law=law).isel(record=r)
+            hit = np.isfinite(one["collapse_time"].sel(building="A").values)
+            expected = min(np.array(LEVELS)[hit]) if hit.any() else np.nan
+            np.testing.assert_equal(float(one["collapse_im"]), expected)
+            assert float(one["im_max_run"]) == max(LEVELS)

@@ -157,8 +157,8 @@ def _records_table(ds: xr.Dataset) -> Table:
 
 
 def _capacity_table(ds: xr.Dataset) -> Table | None:
-    """Per variant of a hunt-and-fill IDA: the collapse intensities bracketed, their median and
-    the records censored."""
+    """Per variant of an IDA: the collapse intensities bracketed, their median and the records
+    censored."""
     if "collapse_im" not in ds:
         return None
     dims = [d for d in ds["collapse_im"].dims if d != "record"]
@@ -185,7 +185,7 @@ def _capacity_table(ds: xr.Dataset) -> Table | None:
         [*_headers(ds, dims), "records with a capacity", "median [g]", "widest bracket [g]",
          "lowest censoring level [g]"],
         rows,
-        f"Hunt-and-fill capacities ({hunt.get('limit_state', 'collapse')}): the lowest level "
+        f"Collapse capacities ({hunt.get('limit_state', 'collapse')}): the lowest level "
         "reaching it, the bracket to the highest level below that did not, and the records "
         "without one (censored at their highest run); the median counts them above all others.",
     )  # fmt: skip

@@ -64,6 +64,7 @@ SUMMARY: dict[str, tuple[tuple[str, ...], str, str]] = {
         "m/s^2",
         ATTRS["peak_absolute_acceleration"]["long_name"],
     ),
+    "peak_story_shear": (("building", "story"), "N", ATTRS["peak_story_shear"]["long_name"]),
     "peak_contact_force": (("contact",), "N", "peak contact force"),
     "peak_penetration": (("contact",), "m", "peak penetration"),
     "impact_count": (("contact",), "1", "number of impacts"),
@@ -113,6 +114,7 @@ def run_summary(ds: xr.Dataset) -> xr.Dataset:
         "peak_displacement": var["peak_displacement"].values,
         "peak_drift_ratio": var["peak_drift_ratio"].values,
         "peak_absolute_acceleration": var["peak_absolute_acceleration"].values,
+        "peak_story_shear": var["peak_story_shear"].values,
         "peak_contact_force": var["peak_contact_force"].values,
         "peak_penetration": var["peak_penetration"].values,
         "impact_count": var["impact_count"].values.astype(float),
@@ -297,7 +299,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         out = np.full((*shape, *(sizes[d] for d in dims)), np.nan)
         for index in np.ndindex(*shape):
             r = get(keys_array[index])
-            if r is not None:
+            if r is not None and name in r:  # runs stored by older versions may lack a variable
                 v = r[name].values
                 out[index + tuple(slice(0, n) for n in v.shape)] = v
         return out
@@ -402,6 +404,8 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
     ):
         if name in ds:
             ds[name].attrs.update(ATTRS[name])
+    if "im_level" in ds.dims and "collapse_time" in ds:
+        _add_collapse_im(ds)
     n_failed = int((status == "failed").sum())
     ds.attrs.update(
         title=study.title,
@@ -423,6 +427,32 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         Conventions="CF-1.8",
     )
     return ds
+
+
+def _add_collapse_im(ds: xr.Dataset) -> None:
+    """Per record and variant of a listed-level IDA: the lowest level at which a building
+    collapsed, the highest level below it without collapse, and the highest level analysed (failed
+    runs left out), as :func:`assemble_hunt` gives them."""
+    ok = ds["run_status"] == "ok"
+    level = ds["im_level"].broadcast_like(ok)
+    collapsed = np.isfinite(ds["collapse_time"]).any("building") & ok
+    label = ds["im_level"].attrs.get("long_name", "intensity")
+    ds["collapse_im"] = (
+        level.where(collapsed)
+        .min("im_level")
+        .assign_attrs(units="g", long_name=f"lowest {label} reaching collapse (NaN: not reached)")
+    )
+    below = ok & ~collapsed & (level < ds["collapse_im"])
+    ds["collapse_im_lower"] = (
+        level.where(below)
+        .max("im_level")
+        .assign_attrs(units="g", long_name=f"highest {label} below it not reaching collapse")
+    )
+    ds["im_max_run"] = (
+        level.where(ok)
+        .max("im_level")
+        .assign_attrs(units="g", long_name=f"highest {label} run (censoring level)")
+    )
 
 
 def _scale_factors(study: Study) -> tuple:
