@@ -86,6 +86,10 @@ class Contact:
         floors only): ``floors = [0]`` with a wall is a moat wall.
     k, e, n, a, delta_m, calibration
         Law parameters, see :func:`pounding.contact.calibrate.contact_parameters`.
+    thickness, k_rubber, e_rubber, crush
+        The rubber bumper of ``law = "bumper"``: thickness [m] (on one face; it shortens the gap),
+        Hertz stiffness [N/m^n] and restitution of the rubber, and the fraction of the thickness
+        compressed when the structures meet through the crushed layer (default 1: all of it).
     """
 
     left: str
@@ -99,6 +103,22 @@ class Contact:
     a: float = 0.1
     delta_m: float | None = None
     calibration: str = "nominal"
+    thickness: float | None = None
+    k_rubber: float | None = None
+    e_rubber: float | None = None
+    crush: float = 1.0
+
+    @property
+    def bumper(self) -> tuple[float, float, float, float] | None:
+        """(thickness, k_rubber, e_rubber, crush) of a bumper, None for other laws."""
+        if not get_contact_law(self.law).is_bumper:
+            return None
+        return (self.thickness, self.k_rubber, self.e_rubber, self.crush)  # type: ignore[return-value]
+
+    @property
+    def element_gap(self) -> float:
+        """The gap [m] the elements close before any force acts: the clear gap less a bumper."""
+        return self.gap - (self.thickness or 0.0) if self.bumper is not None else self.gap
 
     def __post_init__(self) -> None:
         where = f"contact {self.left!r}-{self.right!r}"
@@ -121,6 +141,25 @@ class Contact:
             raise PoundingInputError(
                 f"{where}: calibration = {self.calibration!r}; allowed: {', '.join(CALIBRATIONS)}"
             )
+        keys = ("thickness", "k_rubber", "e_rubber")
+        if law.is_bumper:
+            missing = [key for key in keys if getattr(self, key) is None]
+            if missing:
+                raise PoundingInputError(
+                    f"{where}: law 'bumper' needs {', '.join(missing)} (bumper thickness [m], "
+                    "rubber Hertz stiffness [N/m^n], rubber restitution 0 < e <= 1)"
+                )
+            if not float(self.thickness) <= gap:  # type: ignore[arg-type]
+                raise PoundingInputError(
+                    f"{where}: thickness = {self.thickness} m is more than the gap = {gap} m; "
+                    "allowed: a bumper no thicker than the gap"
+                )
+        else:
+            given = [key for key in (*keys, "crush") if getattr(self, key) not in (None, 1.0)]
+            if given:
+                raise PoundingInputError(
+                    f"{where}: {', '.join(given)} belong to law 'bumper' (law is {law.name!r})"
+                )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -195,7 +234,7 @@ class GapElements:
 
     ``el_dof[c]`` = (dof of a, dof of b), −1 for a wall; ``el_sign[c]`` = (LEFT_SIGN, RIGHT_SIGN) where the
     side is a building and 0 for a wall; ``el_gap`` [m]; ``el_law`` kernel ids; ``el_params`` kernel
-    parameters (C × 4); ``el_mass`` effective masses m̄ [kg]. Labels: ``left``/``right`` building names
+    parameters (C × N_KERNEL_PARAMS); ``el_mass`` effective masses m̄ [kg]. Labels: ``left``/``right`` building names
     (or "wall"), ``left_floor``/``right_floor`` (0 for a wall), ``law`` registry names, ``group`` the index
     of the :class:`Contact` definition the element came from.
     """
@@ -539,6 +578,7 @@ def assemble(
                     a=contact.a,
                     delta_m=contact.delta_m,
                     calibration=contact.calibration,
+                    bumper=contact.bumper,
                 )
             except ValueError as exc:
                 raise PoundingInputError(f"{where}: {exc}") from None
@@ -552,7 +592,7 @@ def assemble(
                         LEFT_SIGN if lb is not None else 0.0,
                         RIGHT_SIGN if rb is not None else 0.0,
                     ),
-                    gap=contact.gap,
+                    gap=contact.element_gap,
                     law_id=law.kernel_id,
                     params=params,
                     mass=m_eff,

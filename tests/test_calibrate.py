@@ -186,9 +186,9 @@ def test_packing_of_the_damping_parameters():
     p = contact_parameters("ye", k=k, e=e)
     assert p[:3].tolist() == [k, 1.5, alpha_flores(e)]
     p = contact_parameters("jankowski", k=k, e=e, mass=m)
-    assert p.tolist() == [k, 1.5, xi_jankowski(e), m]
+    assert p.tolist() == [k, 1.5, xi_jankowski(e), m, 0.0, 0.0, 0.0, 0.0]
     p = contact_parameters("hertz", k=k, n=2.0, e=e)
-    assert p.tolist() == [k, 2.0, 0.0, 0.0]
+    assert p.tolist() == [k, 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
 
 
 # --------------------------------------------------------------------------------------------------
@@ -408,6 +408,8 @@ def _exact_cases():
                 continue
             if name == "bilinear" and e == 0.3:
                 continue  # below the loop's reach at a = 0.1: see the bilinear section below
+            if name == "bumper":
+                continue  # two restitutions: refused (tests/test_bumper.py)
             yield pytest.param(name, e, id=f"{name}-{e}")
 
 

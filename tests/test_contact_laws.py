@@ -95,6 +95,7 @@ def test_registry_names_fixed_by_issue_2():
     expected = {
         "linear", "kelvin", "kelvin_approach", "hertz", "hertz_kelvin", "lankarani_nikravesh",
         "flores", "hu_guo", "gonthier", "hunt_crossley", "jankowski", "bilinear",
+        "bumper",  # issue 18
     }  # fmt: skip
     assert set(LAW_NAMES) == expected
     assert len(LAW_NAMES) == len(expected)
@@ -154,6 +155,8 @@ def _params(name, e):
     kwargs = {"e": e} if law.has_damping else {}
     if law.is_bilinear:
         kwargs["delta_m"] = _d_star(name)
+    if law.is_bumper:  # a layer of half the reference penetration, met through at 90 %
+        kwargs["bumper"] = (0.5 * _d_star(name), 0.05 * _k(name), 0.8, 0.9)
     return contact_parameters(name, k=_k(name), mass=MASS, **kwargs)
 
 
@@ -247,7 +250,7 @@ def test_tangents_equal_central_differences(name, data):
 # tensile force at the end of restitution, Gilardi & Sharf 2002), which is tested below.
 VANISHING_AT_CONTACT = {
     "linear", "hertz", "lankarani_nikravesh", "flores", "hu_guo", "gonthier", "hunt_crossley",
-    "jankowski", "bilinear",
+    "jankowski", "bilinear", "bumper",
 }  # fmt: skip
 
 
@@ -255,7 +258,7 @@ def _damping_at_contact(name, p, v0):
     """c [N·s/m] of the Kelvin-type laws as their docstrings define it."""
     if name == "hertz_kelvin":
         # c = ζ m̄ v0/δ*, δ* = (m̄ v0²/k_h)^(1/(n+1)), ζ = p[2], m̄ = p[3]
-        k, n, zeta, m = p
+        k, n, zeta, m = p[:4]
         v = max(v0, V0_FLOOR)
         return zeta * m * v / (m * v * v / k) ** (1.0 / (n + 1.0))
     return p[2]  # kelvin, kelvin_approach: c = 2ξ√(k m̄), packed

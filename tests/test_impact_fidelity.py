@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _laws import BUMPER, bumper_tuple, with_bumper
 
 from pounding.contact.calibrate import effective_restitution
 from pounding.contact.laws import LAWS_BY_ID
@@ -48,7 +49,7 @@ def _law_params(name: str) -> dict:
         params["e"] = 0.65
     if name == "bilinear":
         params["delta_m"] = 0.005
-    return params
+    return with_bumper(name, params)
 
 
 @pytest.mark.parametrize("law", [law.name for law in LAWS_BY_ID])
@@ -61,11 +62,16 @@ def test_free_mass_kicked_into_a_wall_rebounds_at_the_laws_own_restitution(law):
     t = 0.005 * np.arange(101)
     ground = GroundMotion(np.where(t <= 0.05, -10.0 * np.sin(np.pi * t / 0.05), 0.0), 0.005)
     params = _law_params(law)
-    system = assemble([building], [Contact("A", "wall", gap=0.01, law=law, **params)])
+    gap = 0.01 + params.get("thickness", 0.0)  # a bumper is struck after the kick, as the others
+    system = assemble([building], [Contact("A", "wall", gap=gap, law=law, **params)])
     ds = simulate(system, ground)
     imp = ds.pounding.impacts()
     assert len(imp) == 1
-    single = effective_restitution(law, mass=MASS, v0=float(imp.v0.iloc[0]), **params)
+    kernel_params = {k: v for k, v in params.items() if k not in BUMPER}
+    bumper = bumper_tuple() if law == "bumper" else None
+    single = effective_restitution(
+        law, mass=MASS, v0=float(imp.v0.iloc[0]), bumper=bumper, **kernel_params
+    )
     assert imp.rebound_ratio.iloc[0] == pytest.approx(single.e_effective, abs=2e-4)
     e = ds["energy"].isel(time=-1)
     assert ds.attrs["energy_balance_error"] < 1e-9
@@ -151,6 +157,7 @@ def _scaled_pair(law: str, lam: float):
         params["delta_m"] = 0.005 * lam
     a = ShearBuilding.uniform("A", 3, period=0.3, mass=3e5)
     b = ShearBuilding.uniform("B", 8, period=1.0, mass=3e5)
+    params = with_bumper(law, params, lam)
     return assemble([a, b], [Contact("A", "B", gap=0.02 * lam, law=law, **params)])
 
 

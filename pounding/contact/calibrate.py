@@ -153,6 +153,7 @@ def contact_parameters(
     delta_m: float | None = None,
     calibration: str = "nominal",
     v0: float | None = None,
+    bumper: tuple[float, float, float, float] | None = None,
 ) -> np.ndarray:
     """Kernel parameter array of a contact law.
 
@@ -178,11 +179,41 @@ def contact_parameters(
     v0 : float, optional
         Impact speed [m/s] at which the bilinear loop is calibrated exactly; default: the speed at
         which an undamped k δ^n contact reaches δ_m. (The other laws are self-similar in v0.)
+    bumper : (thickness [m], k_rubber [N/m^n], e_rubber, crush), optional
+        The rubber layer of ``bumper`` (required by it, refused by the others): the crushed contact
+        (k, e) starts at the compression crush × thickness.
     """
     law = get_contact_law(law)
     k, n, e, mass, delta_m = _validate(
         law, k=k, e=e, n=n, mass=mass, a=a, delta_m=delta_m, calibration=calibration
     )
+    if law.is_bumper:
+        if bumper is None:
+            raise PoundingInputError(
+                "law 'bumper' needs thickness [m], k_rubber [N/m^n] and e_rubber (0 < e <= 1)"
+            )
+        if calibration == "exact":
+            raise PoundingInputError(
+                "law 'bumper': calibration = 'exact' is not available (two restitutions); "
+                "allowed: nominal"
+            )
+        thickness, k_r, e_r, crush = bumper
+        thickness = _positive(thickness, "thickness", law.name, "> 0 [m]")
+        k_r = _positive(k_r, "k_rubber", law.name, "> 0 [N/m^n]")
+        e_r = _positive(e_r, "e_rubber", law.name, "0 < e <= 1")
+        if e_r > 1.0:
+            raise PoundingInputError(f"law 'bumper': e_rubber = {e_r}; allowed: 0 < e <= 1")
+        crush = _positive(crush, "crush", law.name, "0 < crush <= 1")
+        if crush > 1.0:
+            raise PoundingInputError(f"law 'bumper': crush = {crush}; allowed: 0 < crush <= 1")
+        p = _pack(law, k, n, law.damping_from_e(e), mass, a, delta_m)  # type: ignore[misc]
+        p[4], p[5], p[6] = k_r, law.damping_from_e(e_r), crush * thickness  # type: ignore[misc]
+        return p
+    if bumper is not None:
+        raise PoundingInputError(
+            f"law {law.name!r} takes no bumper (thickness, k_rubber, e_rubber, crush): use "
+            "law = 'bumper'"
+        )
     if not law.has_damping:
         return _pack(law, k, n, 0.0, mass, a, delta_m)
     if calibration == "exact" or law.damping_from_e is None:
@@ -356,6 +387,7 @@ def effective_restitution(
     a: float = 0.1,
     delta_m: float | None = None,
     calibration: str = "nominal",
+    bumper: tuple[float, float, float, float] | None = None,
 ) -> ImpactResult:
     """Simulate one free impact of ``mass`` [kg] at ``v0`` [m/s] against a rigid wall.
 
@@ -365,7 +397,8 @@ def effective_restitution(
     force acts).
     For two bodies, pass the effective mass m̄ = m1 m2 / (m1 + m2) and the relative approach speed.
     The bilinear loop's δ_m defaults to the undamped Hertz δ_max at this speed, and its exact
-    calibration is made at this speed.
+    calibration is made at this speed. ``bumper``: the rubber layer of law ``bumper`` (thickness,
+    k_rubber, e_rubber, crush; δ is then the layer's compression).
     """
     law = get_contact_law(law)
     v0 = _positive(v0, "v0", law.name, "> 0 [m/s]")
@@ -374,6 +407,16 @@ def effective_restitution(
     if law.is_bilinear and delta_m is None:
         delta_m = hertz_max_penetration(k=_positive(k, "k", law.name), n=n_used, mass=mass, v0=v0)
     p = contact_parameters(
-        law, k=k, e=e, n=n, mass=mass, a=a, delta_m=delta_m, calibration=calibration, v0=v0
+        law,
+        k=k,
+        e=e,
+        n=n,
+        mass=mass,
+        a=a,
+        delta_m=delta_m,
+        calibration=calibration,
+        v0=v0,
+        bumper=bumper,
     )
-    return _impact(law, p, mass, v0, float(k), n_used)
+    # the bumper's rubber sets the impact's scales (its stiff crushed contact comes later, if at all)
+    return _impact(law, p, mass, v0, float(p[4] if law.is_bumper else k), n_used)

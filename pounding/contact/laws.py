@@ -14,7 +14,9 @@ penetration and force at the last converged state (history of the hysteretic bil
 the others) and ``p`` a float array of kernel parameters packed by :func:`pounding.contact.calibrate.
 contact_parameters`. Layout of ``p``: ``p[0]`` = k [N/m^n], ``p[1]`` = n [-] for every law but
 ``bilinear`` (whose ``p`` is K1, K2, δ_y); ``p[2]`` the law's damping coefficient in kernel form;
-``p[3]`` the effective mass m̄ [kg] where the law needs it.
+``p[3]`` the effective mass m̄ [kg] where the law needs it; ``p[4:7]`` the rubber layer of
+``bumper`` (k_r, its χ v0, the compression d_thr at which the crushed contact starts), zero for the
+others.
 
 The registry :data:`CONTACT_LAWS` maps names (and aliases) to :class:`ContactLaw` records: kernel,
 kernel id (the index the compiled dispatcher switches on), the relation between the nominal
@@ -57,6 +59,9 @@ References
    Arnold, London.
 .. [16] Gilardi, G., Sharf, I. (2002). Literature survey of contact dynamics modelling. Mech. Mach.
    Theory 37(10), 1213-1239.
+.. [17] Polycarpou, P.C., Komodromos, P., Polycarpou, A.C. (2013). A nonlinear impact model for
+   simulating the use of rubber shock absorbers for mitigating the effects of structural pounding
+   during earthquakes. Earthquake Eng. Struct. Dyn. 42(1), 81-100. doi:10.1002/eqe.2194
 """
 
 from __future__ import annotations
@@ -74,7 +79,7 @@ from pounding.errors import PoundingInputError
 V0_FLOOR = 1.0e-4
 
 #: Length of the kernel parameter array.
-N_KERNEL_PARAMS = 4
+N_KERNEL_PARAMS = 8
 
 
 # --------------------------------------------------------------------------------------------------
@@ -197,6 +202,43 @@ def bilinear_kernel(d, dd, v0, d_prev, f_prev, p):
     return f, k1, 0.0
 
 
+def bumper_kernel(d, dd, v0, d_prev, f_prev, p):
+    r"""Rubber bumper of limited thickness, then the crushed contact [17], [3]:
+
+    .. math:: F = k_r\delta^n(1 + \chi_r\dot\delta)
+              + k_h\langle\delta - d_{thr}\rangle^n(1 + \chi_h\dot\delta)
+
+    δ is the bumper's compression (the element's gap is the clear gap less the bumper thickness),
+    k_r = p[4], χ_r = p[5]/v0, d_thr = p[6] (the compression at which the structures meet through
+    the crushed layer), k_h = p[0], n = p[1], χ_h = p[2]/v0 with v0 the speed at which the bumper was
+    struck; each term is a Hunt-Crossley force, never tensile.
+    """
+    if d <= 0.0:
+        return 0.0, 0.0, 0.0
+    n = p[1]
+    v = max(v0, V0_FLOOR)
+    f = 0.0
+    kd = 0.0
+    kv = 0.0
+    chi = p[5] / v
+    g = 1.0 + chi * dd
+    if g > 0.0:
+        dn1 = d ** (n - 1.0)
+        f += p[4] * dn1 * d * g
+        kd += n * p[4] * dn1 * g
+        kv += p[4] * dn1 * d * chi
+    dc = d - p[6]
+    if dc > 0.0:
+        chi = p[2] / v
+        g = 1.0 + chi * dd
+        if g > 0.0:
+            dn1 = dc ** (n - 1.0)
+            f += p[0] * dn1 * dc * g
+            kd += n * p[0] * dn1 * g
+            kv += p[0] * dn1 * dc * chi
+    return f, kd, kv
+
+
 def bilinear_rate(d, dd, f, p):
     """dF/dt [N/s] of the bilinear loop at state (δ, F) moving at δ̇ (the ivp form of the same law)."""
     if d <= 0.0:
@@ -211,11 +253,15 @@ def bilinear_rate(d, dd, f, p):
 def stored_energy(is_bilinear, d, f, p):
     r"""Recoverable energy [J] held by a contact at penetration δ and force F.
 
-    Elastic laws: :math:`k\delta^{n+1}/(n+1)` (n = 1 for the linear family). Bilinear: the area under
-    the unloading path from (δ, F) along K1 to the line K2 δ and down it to the origin.
+    Elastic laws: :math:`k\delta^{n+1}/(n+1)` (n = 1 for the linear family); the bumper adds its
+    rubber's and the crushed contact's. Bilinear: the area under the unloading path from (δ, F) along
+    K1 to the line K2 δ and down it to the origin.
     """
     if d <= 0.0:
         return 0.0
+    if p[4] > 0.0:  # bumper: the rubber layer, and the crushed contact beyond d_thr
+        dc = max(d - p[6], 0.0)
+        return (p[4] * d ** (p[1] + 1.0) + p[0] * dc ** (p[1] + 1.0)) / (p[1] + 1.0)
     if is_bilinear:
         k1 = p[0]
         k2 = p[1]
@@ -407,6 +453,11 @@ class ContactLaw:
     def is_bilinear(self) -> bool:
         return self.damping == "loop"
 
+    @property
+    def is_bumper(self) -> bool:
+        """A rubber layer in the gap (:func:`bumper_kernel`): thickness, k_rubber, e_rubber."""
+        return self.name == "bumper"
+
 
 _LAWS = (
     ContactLaw("linear", 0, linear_kernel, "none", None, 1.0, "F = k δ",
@@ -444,6 +495,11 @@ _LAWS = (
                "K1 to δ_y = a δ_m, then K2; unload on K1 to F = K2 δ (loop energy k δ_m^(n+1)(1 − e²)/(n+1))",
                "Muthukumar 2003 (PhD, Georgia Tech); Muthukumar & DesRoches 2006, EESD 35(7) 811-828",
                ("impact_material",)),
+    ContactLaw("bumper", 12, bumper_kernel, "alpha", alpha_lankarani_nikravesh, 1.5,
+               "F = k_r δ^n (1 + χ_r δ̇) + k ⟨δ − d_thr⟩^n (1 + χ δ̇), χ = 3(1 − e²)/(4 v0) for "
+               "the rubber (e_rubber) and the crushed contact (e); gap less the bumper thickness",
+               "Polycarpou, Komodromos & Polycarpou 2013, EESD 42(1) 81-100; Lankarani & Nikravesh "
+               "1990", ("rubber_bumper",)),
 )  # fmt: skip
 
 #: Contact laws by registry name (aliases included).

@@ -18,6 +18,7 @@ _hertz_kelvin = jit(_laws.hertz_kelvin_kernel)
 _hunt_crossley = jit(_laws.hunt_crossley_kernel)
 _jankowski = jit(_laws.jankowski_kernel)
 _bilinear = jit(_laws.bilinear_kernel)
+_bumper = jit(_laws.bumper_kernel)
 _stored = jit(_laws.stored_energy)
 bilinear_rate = jit(_laws.bilinear_rate)
 
@@ -41,7 +42,9 @@ def contact_eval(law, d, dd, v0, d_prev, f_prev, p):
         return _hunt_crossley(d, dd, v0, d_prev, f_prev, p)
     if law == 10:
         return _jankowski(d, dd, v0, d_prev, f_prev, p)
-    return _bilinear(d, dd, v0, d_prev, f_prev, p)
+    if law == 11:
+        return _bilinear(d, dd, v0, d_prev, f_prev, p)
+    return _bumper(d, dd, v0, d_prev, f_prev, p)
 
 
 @jit

@@ -43,7 +43,20 @@ IM_KEYS = ("building", "period", "period_low", "period_high", "n_periods", "damp
 #: The ``law`` value that removes every contact (the no-contact baseline).
 NO_CONTACT = "none"
 #: Keys a ``[study.law_params.LAW]`` table may set.
-LAW_PARAM_KEYS = ("k", "e", "n", "a", "delta_m", "calibration")
+LAW_PARAM_KEYS = (
+    "k",
+    "e",
+    "n",
+    "a",
+    "delta_m",
+    "calibration",
+    "thickness",
+    "k_rubber",
+    "e_rubber",
+    "crush",
+)
+#: The rubber layer of law "bumper" (dropped for the other laws).
+_BUMPER_KEYS = ("thickness", "k_rubber", "e_rubber", "crush")
 # A stand-in [ground_motion] used while the record comes from the `record` axis (never integrated).
 _PLACEHOLDER_MOTION = {"type": "sine_pulse", "duration": 0.01, "dt": 0.005}
 
@@ -538,6 +551,9 @@ def _normalise_contact(c: dict[str, Any]) -> dict[str, Any]:
         out.pop("delta_m", None)
     if not law.has_exponent:
         out.pop("n", None)
+    if not law.is_bumper:
+        for key in _BUMPER_KEYS:
+            out.pop(key, None)
     return out
 
 
