@@ -665,6 +665,8 @@ def _run_study_command(
     where = f"scheduler {scheduler}" if scheduler else f"{jobs or 'all'} local process(es)"
     axes = ", ".join(f"{name} ({len(values)})" for name, values in loaded.axes.items())
     typer.echo(f"{loaded.title or case}")
+    for warning in loaded.warnings:
+        typer.echo(f"  warning: {warning}")
     typer.echo(
         f"  axes {axes}: {loaded.size} combinations, {plan.n_runs} distinct runs with the "
         f"no-contact baselines; {stored} already stored, {len(plan.todo)} to run on {where}"
@@ -712,6 +714,8 @@ def _run_hunt_command(
     n_traces = loaded.size
     variants = ", ".join(f"{n} ({len(v)})" for n, v in loaded.axes.items() if n != "record")
     typer.echo(f"{loaded.title or case}")
+    for warning in loaded.warnings:
+        typer.echo(f"  warning: {warning}")
     typer.echo(
         f"  hunt-and-fill IDA: {len(loaded.axes['record'])} records"
         + (f" × variants {variants}" if variants else "")

@@ -480,3 +480,16 @@ def test_bad_scaling_is_refused_before_anything_runs(change, message):
     case["ida"].update(change)
     with pytest.raises(StudyError, match=message):
         study_from_dict(case, base_dir=ROOT)
+
+
+def test_elastic_buildings_get_a_warning_for_collapse_and_a_hunt_for_it_is_refused():
+    case = _case()
+    building = case["building"][0]
+    building.pop("stories")
+    building["p_delta"] = False
+    with pytest.raises(StudyError, match="ida.hunt traces collapse, but no building can collapse"):
+        study_from_dict(case, base_dir=ROOT)
+    case["ida"]["hunt"]["limit_state"] = 0.02  # a drift limit works on elastic buildings
+    assert study_from_dict(case, base_dir=ROOT).warnings  # collapse is still a listed limit state
+    case["ida"]["limit_states"] = [0.01]
+    assert study_from_dict(case, base_dir=ROOT).warnings == []

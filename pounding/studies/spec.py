@@ -142,6 +142,20 @@ class Study:
         return normal, median
 
     @property
+    def warnings(self) -> list[str]:
+        """What the user should know before the runs: an IDA whose collapse limit state no
+        building can reach (elastic stories without P-Δ)."""
+        if self.im is None or "collapse" not in self.limit_states:
+            return []
+        if any(b.can_collapse for b in self.case.system.buildings):
+            return []
+        return [
+            "no building can collapse (elastic stories without P-Δ): the collapse limit state is "
+            "never reached; its fragility will have no fit (give yielding stories or p_delta = "
+            "true, or drift limit states such as limit_states = [0.02])"
+        ]
+
+    @property
     def level_label(self) -> str:
         """What a level [g] is: ``target Sa(0.52 s, 5 %)``, or the set's median of it."""
         assert self.im is not None
@@ -391,6 +405,13 @@ def study_from_dict(
         hunt=hunt,
         scaling=scaling,
     )
+    if hunt is not None and hunt.limit_state == "collapse":
+        if not any(b.can_collapse for b in base.system.buildings):
+            raise StudyError(
+                f"{source}: ida.hunt traces collapse, but no building can collapse (elastic "
+                "stories without P-Δ); allowed: yielding stories or p_delta = true, or "
+                "ida.hunt.limit_state = a story drift ratio (e.g. 0.05)"
+            )
     if scaling == "set":
         usable = [r for r in study.axes["record"] if r.motion is not None]
         if len(usable) < 2:
