@@ -856,7 +856,8 @@ _LIMIT_STATE = typer.Option(
     None,
     "--limit-state",
     "-l",
-    help="collapse, or a story drift ratio such as 0.015 (repeatable; default: the IDA's).",
+    help="collapse, pounding (any impact), or a story drift ratio such as 0.015 (repeatable; "
+    "default: the IDA's).",
 )
 
 
@@ -885,10 +886,11 @@ def fragility(
     limits: list[str | float] = []
     for value in limit_state or json.loads(ds.attrs.get("limit_states", '["collapse"]')):
         try:
-            limits.append(value if value == "collapse" else float(value))
+            limits.append(value if value in ("collapse", "pounding") else float(value))
         except ValueError:
             raise UserError(
-                f"--limit-state {value!r}; allowed: collapse or a story drift ratio (0.015)"
+                f"--limit-state {value!r}; allowed: collapse, pounding or a story drift ratio "
+                "(0.015)"
             ) from None
     fr = ds.pounding.fragility(limits, building=building, method=method, n_boot=bootstrap)
     _print_fragility(fr)

@@ -403,8 +403,14 @@ def no_contact(ds, at: dict[str, int]) -> bool:
     return "law" in at and str(ds["law"].values[at["law"]]) == "none"
 
 
+#: The "limit state" of the buildings touching at all: at least one impact in the run.
+POUNDING = "pounding"
+
+
 def _limit_label(limit: str | float) -> str:
-    return COLLAPSE if limit == COLLAPSE else f"drift {100 * float(limit):g} %"
+    if limit in (COLLAPSE, POUNDING):
+        return str(limit)
+    return f"drift {100 * float(limit):g} %"
 
 
 def _exceeded(ds, limit: str | float, building: str | None):
@@ -412,6 +418,11 @@ def _exceeded(ds, limit: str | float, building: str | None):
     building when None). A collapsed run exceeds every drift limit."""
     import xarray as xr
 
+    if limit == POUNDING:
+        if "impact_count" not in ds or "contact" not in ds["impact_count"].dims:
+            raise PoundingInputError("fragility(limit_state='pounding'): the study has no contacts")
+        ok = ds["run_status"] == "ok" if "run_status" in ds else True
+        return (ds["impact_count"].sum("contact") > 0).astype(float).where(ok)
     if limit == COLLAPSE:
         hit = np.isfinite(ds["collapse_time"]) if "collapse_time" in ds else None
         if hit is None:
@@ -547,7 +558,7 @@ def study_fragility(
                     reached = runs[:, r] == 1.0
                     if reached.any():
                         cap[r] = float(np.min(lv[reached, r]))
-                    if hunt and limit != COLLAPSE and reached.any():
+                    if hunt and limit not in (COLLAPSE, POUNDING) and reached.any():
                         cap[r] = _crossing(lv[:, r], drift[index][:, r], runs[:, r], float(limit))
                 if hunt:
                     with np.errstate(invalid="ignore"):

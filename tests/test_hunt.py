@@ -493,3 +493,27 @@ def test_elastic_buildings_get_a_warning_for_collapse_and_a_hunt_for_it_is_refus
     assert study_from_dict(case, base_dir=ROOT).warnings  # collapse is still a listed limit state
     case["ida"]["limit_states"] = [0.01]
     assert study_from_dict(case, base_dir=ROOT).warnings == []
+
+
+def test_pounding_is_a_limit_state_and_a_hunt_brackets_its_onset(hunted, tmp_path):
+    _, _, ds = hunted
+    fr = ds.pounding.fragility(["pounding"])
+    for law, expected in (("hertz", True), ("none", False)):
+        one = fr.sel(limit_state="pounding", law=law)
+        assert np.isfinite(float(one["fragility_median"])) == expected
+    # each record's pounding capacity is its lowest run with an impact
+    hertz = ds.sel(law="hertz")
+    for r in range(hertz.sizes["record"]):
+        one = hertz.isel(record=r)
+        ok = one["run_status"].values == "ok"
+        pounds = one["impact_count"].sum("contact").values[ok] > 0
+        levels = one["ida_level"].values[ok]
+        got = float(fr["capacity"].sel(limit_state="pounding", law="hertz").isel(record=r))
+        assert got == pytest.approx(levels[pounds].min())
+    case = _case(limit_state="pounding", tolerance=0.02)
+    case["ida"]["law"] = ["hertz"]
+    onset = run_hunt(study_from_dict(case, base_dir=ROOT), tmp_path / "runs", jobs=1)
+    low, high = onset["collapse_im_lower"].values, onset["collapse_im"].values
+    assert (
+        np.all(high - low <= 0.02 + 1e-12) and "pounding" in onset["collapse_im"].attrs["long_name"]
+    )

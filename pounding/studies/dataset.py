@@ -506,10 +506,12 @@ def assemble_hunt(
     ds = assemble(plan)
     dims = ds["run_status"].dims
     reached = ds["run_status"] != "ok"
-    if "collapse_time" in ds:
-        reached = reached | np.isfinite(ds["collapse_time"]).any("building")
     limit = study.hunt.limit_state
-    if limit != "collapse":
+    if limit == "pounding":
+        reached = reached | (ds["impact_count"].sum("contact") > 0)
+    elif "collapse_time" in ds:
+        reached = reached | np.isfinite(ds["collapse_time"]).any("building")
+    if limit not in ("collapse", "pounding"):
         reached = reached | (ds["peak_drift_ratio"].max(["building", "story"]) >= float(limit))
     hit = reached.values & (keys != "")
     cap = np.full(keys.shape[:-1], np.nan)
@@ -532,7 +534,7 @@ def assemble_hunt(
         scale,
         {"units": "1", "long_name": "record scale factor to the target intensity"},
     )
-    what = "collapse" if limit == "collapse" else f"story drift ratio {limit:g}"
+    what = limit if limit in ("collapse", "pounding") else f"story drift ratio {limit:g}"
     ds["collapse_im"] = (
         var_dims,
         cap,

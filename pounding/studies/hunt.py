@@ -14,7 +14,8 @@ of ``max_runs``:
 
 A record that had not reached the limit state at ``max_level`` or when the budget ran out is
 censored at its highest level. A run that failed (a Newton iteration that did not converge) counts
-as collapse, as in [1]_.
+as collapse, as in [1]_ (and as reaching any other limit state traced: it ends the hunt). With
+``limit_state = "pounding"`` the trace brackets the intensity at which the buildings first touch.
 
 References
 ----------
@@ -44,8 +45,8 @@ HUNT_KEYS = (
 
 
 def is_limit_state(value: Any) -> bool:
-    """``"collapse"`` or a story drift ratio (0 < value < 10)."""
-    return value == "collapse" or (
+    """``"collapse"``, ``"pounding"`` (any impact) or a story drift ratio (0 < value < 10)."""
+    return value in ("collapse", "pounding") or (
         isinstance(value, int | float) and not isinstance(value, bool) and 0.0 < value < 10.0
     )
 
@@ -60,7 +61,8 @@ class HuntOptions:
     tolerance: float = 0.05
     max_runs: int = 12
     max_level: float = 5.0
-    #: "collapse" or a story drift ratio (the largest of any building's stories)
+    #: "collapse", "pounding" (the first impact) or a story drift ratio (the largest of any
+    #: building's stories)
     limit_state: str | float = "collapse"
 
     def __post_init__(self) -> None:
@@ -84,7 +86,7 @@ class HuntOptions:
         limit = self.limit_state
         if not is_limit_state(limit):
             raise PoundingInputError(
-                f'ida.hunt.limit_state = {limit!r}; allowed: "collapse" or a story drift ratio '
+                f'ida.hunt.limit_state = {limit!r}; allowed: "collapse", "pounding" or a story drift ratio '
                 "(e.g. 0.05)"
             )
 

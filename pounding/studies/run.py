@@ -328,6 +328,8 @@ def _reached(record: Mapping[str, Any] | None, limit: str | float) -> bool:
     if record is None or record["status"] != "ok":
         return True
     summary = record["summary"]["data_vars"]
+    if limit == "pounding":
+        return bool(np.nansum(np.asarray(summary["impact_count"]["data"], dtype=float)) > 0)
     if np.isfinite(np.asarray(summary["collapse_time"]["data"], dtype=float)).any():
         return True
     if limit == "collapse":

@@ -435,7 +435,7 @@ def _limit_states(value: Any, source: str) -> tuple[str | float, ...]:
     for v in values:
         if not is_limit_state(v):
             raise StudyError(
-                f'{source}: limit_states value {v!r}; allowed: "collapse" or a story drift '
+                f'{source}: limit_states value {v!r}; allowed: "collapse", "pounding" or a story drift '
                 "ratio > 0 (e.g. 0.015 for 1.5 %)"
             )
     if not values:
