@@ -363,6 +363,10 @@ def laws_restitution(
     a: float = typer.Option(0.1, help="Bilinear yield fraction delta_y/delta_m."),
     delta_m: float = typer.Option(None, "--delta-m", help="Bilinear expected max penetration [m]."),
     calibration: str = typer.Option("nominal", help="nominal | exact."),
+    thickness: float = typer.Option(None, help="Bumper thickness [m] (law bumper)."),
+    k_rubber: float = typer.Option(None, help="Bumper rubber stiffness [N/m^n] (law bumper)."),
+    e_rubber: float = typer.Option(None, help="Bumper rubber restitution (law bumper)."),
+    crush: float = typer.Option(1.0, help="Bumper fraction compressed when the structures meet."),
     as_json: bool = typer.Option(False, "--json", help="Emit JSON instead of text."),
 ) -> None:
     """Simulate one free impact against a rigid wall: effective e, max penetration, peak force, durations.
@@ -376,9 +380,14 @@ def laws_restitution(
 
     from pounding.contact.calibrate import effective_restitution
 
+    given = [thickness, k_rubber, e_rubber]
+    bumper = None if all(v is None for v in given) else (*given, crush)
+    if bumper is not None and None in given:
+        raise UserError("--thickness, --k-rubber and --e-rubber go together (law bumper)")
     r = effective_restitution(
-        law, k=k, mass=mass, v0=v0, e=e, n=n, a=a, delta_m=delta_m, calibration=calibration
-    )
+        law, k=k, mass=mass, v0=v0, e=e, n=n, a=a, delta_m=delta_m, calibration=calibration,
+        bumper=bumper,  # type: ignore[arg-type]
+    )  # fmt: skip
     if as_json:
         typer.echo(json.dumps(r.as_dict()))
         return

@@ -90,6 +90,9 @@ class Contact:
         The rubber bumper of ``law = "bumper"``: thickness [m] (on one face; it shortens the gap),
         Hertz stiffness [N/m^n] and restitution of the rubber, and the fraction of the thickness
         compressed when the structures meet through the crushed layer (default 1: all of it).
+    k_filler, c_filler
+        The viscoelastic filler of ``law = "filler"``, filling the whole gap: stiffness [N/m] and
+        damping [N s/m] (``crush``: the fraction of the gap compressed when the structures meet).
     """
 
     left: str
@@ -107,6 +110,15 @@ class Contact:
     k_rubber: float | None = None
     e_rubber: float | None = None
     crush: float = 1.0
+    k_filler: float | None = None
+    c_filler: float | None = None
+
+    @property
+    def filler(self) -> tuple[float, float, float] | None:
+        """(k_filler, c_filler, compression at which the structures meet) of a filler, else None."""
+        if not get_contact_law(self.law).is_filler:
+            return None
+        return (self.k_filler, self.c_filler or 0.0, self.crush * self.gap)  # type: ignore[return-value]
 
     @property
     def bumper(self) -> tuple[float, float, float, float] | None:
@@ -118,6 +130,8 @@ class Contact:
     @property
     def element_gap(self) -> float:
         """The gap [m] the elements close before any force acts: the clear gap less a bumper."""
+        if self.filler is not None:
+            return 0.0  # the filler touches both faces from the start
         return self.gap - (self.thickness or 0.0) if self.bumper is not None else self.gap
 
     def __post_init__(self) -> None:
@@ -154,11 +168,30 @@ class Contact:
                     f"{where}: thickness = {self.thickness} m is more than the gap = {gap} m; "
                     "allowed: a bumper no thicker than the gap"
                 )
+        elif law.is_filler:
+            if self.k_filler is None:
+                raise PoundingInputError(
+                    f"{where}: law 'filler' needs k_filler (filler stiffness [N/m]; c_filler "
+                    "[N s/m] optional)"
+                )
+            if not gap > 0.0:
+                raise PoundingInputError(f"{where}: law 'filler' fills a gap: allowed gap > 0 [m]")
+            given = [key for key in keys if getattr(self, key) is not None]
+            if given:
+                raise PoundingInputError(
+                    f"{where}: {', '.join(given)} belong to law 'bumper' (law is 'filler')"
+                )
         else:
             given = [key for key in (*keys, "crush") if getattr(self, key) not in (None, 1.0)]
             if given:
                 raise PoundingInputError(
                     f"{where}: {', '.join(given)} belong to law 'bumper' (law is {law.name!r})"
+                )
+        if not law.is_filler:
+            given = [key for key in ("k_filler", "c_filler") if getattr(self, key) is not None]
+            if given:
+                raise PoundingInputError(
+                    f"{where}: {', '.join(given)} belong to law 'filler' (law is {law.name!r})"
                 )
 
 
@@ -579,6 +612,7 @@ def assemble(
                     delta_m=contact.delta_m,
                     calibration=contact.calibration,
                     bumper=contact.bumper,
+                    filler=contact.filler,
                 )
             except ValueError as exc:
                 raise PoundingInputError(f"{where}: {exc}") from None

@@ -7,7 +7,7 @@ within 2 %, with the energy balance error below 1 % of the input energy on both 
 from __future__ import annotations
 
 import pytest
-from _laws import with_bumper
+from _laws import with_layer
 
 from pounding.contact.laws import LAWS_BY_ID
 from pounding.ground_motion import sine_pulse
@@ -26,7 +26,7 @@ def _pair(law: str):
         params.pop("e")
     if law == "bilinear":
         params["delta_m"] = 0.004
-    return assemble([a, b], [Contact("A", "B", 0.01, law, **with_bumper(law, params))])
+    return assemble([a, b], [Contact("A", "B", 0.01, law, **with_layer(law, params))])
 
 
 @pytest.mark.parametrize("law", [law.name for law in LAWS_BY_ID])

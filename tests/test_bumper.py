@@ -1,6 +1,7 @@
-"""The rubber bumper contact law (Polycarpou, Komodromos & Polycarpou 2013): its kernel against the
-formula, a free impact against the energy closed form and against an independent solve_ivp
-integration (Newmark and ivp), the gap it takes up, studies with and without it, and its errors."""
+"""The rubber bumper (Polycarpou, Komodromos & Polycarpou 2013) and the viscoelastic filler:
+kernels against the formula, free impacts against the energy closed form and runs against
+independent solve_ivp integrations (Newmark and ivp), the gap they take up, a study with and without
+the bumper, and their errors."""
 
 from __future__ import annotations
 
@@ -173,3 +174,113 @@ def test_a_study_compares_contacts_with_and_without_the_bumper(tmp_path):
     assert float(acc.sel(law="bumper")) < 0.9 * float(acc.sel(law="flores"))
     crushed = ds["peak_penetration"].isel(contact=0, record=0).sel(law="bumper")
     assert float(crushed) > 0.9 * 0.025
+
+
+# --------------------------------------------------------------------------------------------------
+# Viscoelastic filler filling the whole gap
+# --------------------------------------------------------------------------------------------------
+
+K_F, C_F, GAP = 2.0e7, 2.0e5, 0.03  # N/m, N s/m, m
+
+
+def _filler_force(d: float, dd: float, e: float = 0.65, crush: float = 0.8) -> float:
+    """max(k_f δ + c_f δ̇, 0) + Jankowski's law on δ − crush × gap, written out."""
+    if d <= 0.0:
+        return 0.0
+    f = max(K_F * d + C_F * dd, 0.0)
+    dc = d - crush * GAP
+    if dc > 0.0:
+        xi = 9.0 * math.sqrt(5.0) / 2.0 * (1 - e * e) / (e * (e * (9 * math.pi - 16) + 16))
+        f += K_C * dc**1.5 + (2 * xi * math.sqrt(K_C * math.sqrt(dc) * MASS) * dd if dd > 0 else 0)
+    return f
+
+
+def test_filler_kernel_is_a_kelvin_layer_then_jankowskis_law_with_exact_tangents():
+    p = contact_parameters("filler", k=K_C, e=0.65, mass=MASS, filler=(K_F, C_F, 0.8 * GAP))
+    for d, dd in ((0.01, 0.5), (0.01, -0.3), (0.026, 0.4), (0.03, -0.2), (-0.001, 1.0)):
+        f, kd, kv = (float(x) for x in contact_force("filler", d, dd, p, v0=1.0))
+        assert f == pytest.approx(_filler_force(d, dd), rel=1e-12, abs=1e-9)
+        h = 1e-8
+        fd = (_filler_force(d + h, dd) - _filler_force(d - h, dd)) / (2 * h)
+        fv = (_filler_force(d, dd + h) - _filler_force(d, dd - h)) / (2 * h)
+        assert kd == pytest.approx(fd, rel=1e-5, abs=1e-3)
+        assert kv == pytest.approx(fv, rel=1e-5, abs=1e-3)
+
+
+def _filler_case(method: str) -> dict:
+    return {
+        "building": [{"name": "A", "n_floors": 1, "period": 0.5, "mass": MASS,
+                      "damping": {"ratio": 0.05}}],
+        "contact": [{"left": "A", "right": "wall", "gap": GAP, "law": "filler", "k": K_C,
+                     "e": 0.65, "k_filler": K_F, "c_filler": C_F, "crush": 0.8}],
+        "ground_motion": {"type": "sine_pulse", "amplitude": 0.6, "period": 0.5, "duration": 3.0,
+                          "dt": 0.005},
+        "analysis": {"method": method},
+    }  # fmt: skip
+
+
+@pytest.mark.parametrize("method", ["newmark", "ivp"])
+def test_sdof_against_a_wall_through_a_filler_matches_an_independent_solve_ivp(method):
+    case = case_from_dict(_filler_case(method))
+    ds = simulate(case)
+    gm = case.ground_motion
+    b = case.system.buildings[0]
+    m, k = float(b.masses[0]), float(b.stiffnesses[0])
+    c = 2 * 0.05 * math.sqrt(k * m)
+    t_g = gm.dt * np.arange(gm.acceleration.size)
+
+    def rhs(t, y):  # u > 0 towards the wall; the filler is compressed by u
+        a_g = np.interp(t, t_g, gm.acceleration)
+        return [y[1], (-m * a_g - c * y[1] - k * y[0] - _filler_force(y[0], y[1])) / m]
+
+    t_out = ds["time"].values
+    sol = solve_ivp(rhs, (0.0, t_out[-1]), [0.0, 0.0], method="DOP853", rtol=1e-10, atol=1e-13,
+                    t_eval=t_out, max_step=1e-3)  # fmt: skip
+    u = ds["displacement"].sel(building="A").isel(floor=0).values
+    ref_force = np.array([_filler_force(a, b) for a, b in zip(sol.y[0], sol.y[1], strict=True)])
+    assert np.max(np.abs(u)) == pytest.approx(np.max(np.abs(sol.y[0])), rel=5e-3)
+    assert float(ds["peak_contact_force"].max()) == pytest.approx(ref_force.max(), rel=5e-3)
+    assert np.max(sol.y[0]) > 0.8 * GAP  # the structures met through the crushed filler
+
+
+@pytest.mark.parametrize(
+    ("contact", "message"),
+    [
+        ({"law": "filler"}, "law 'filler' needs k_filler"),
+        ({"law": "filler", "k_filler": K_F, "gap": 0.0}, "law 'filler' fills a gap"),
+        ({"law": "flores", "k_filler": K_F}, "k_filler belong to law 'filler'"),
+        ({"law": "filler", "k_filler": K_F, "thickness": 0.01}, "thickness belong to law 'bumper'"),
+        ({"law": "filler", "k_filler": K_F, "calibration": "exact"},
+         "calibration = 'exact' is not available"),
+    ],
+)  # fmt: skip
+def test_bad_filler_input_names_the_field(contact, message):
+    with pytest.raises((CaseError, PoundingInputError), match=message):
+        case_from_dict(_case(contact))
+
+
+def test_laws_restitution_and_the_report_take_the_bumpers_layer(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from pounding.cli import app
+    from pounding.contact.calibrate import effective_restitution
+    from pounding.report.sections import _single_impact
+
+    args = ["laws", "restitution", "--law", "bumper", "--k", str(K_C), "--mass", str(MASS),
+            "--v0", "1.5", "--e", "0.65", "--thickness", str(THICK), "--k-rubber", str(K_R),
+            "--e-rubber", "0.8", "--crush", str(CRUSH), "--json"]  # fmt: skip
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 0, res.output
+    ref = effective_restitution(
+        "bumper", k=K_C, mass=MASS, v0=1.5, e=0.65, bumper=(THICK, K_R, 0.8, CRUSH)
+    )
+    assert json.loads(res.output)["e_effective"] == pytest.approx(ref.e_effective, rel=1e-12)
+    _, peak = _reference(1.5, 0.65, 0.8)
+    assert ref.e_effective == pytest.approx(peak / 1.5, rel=1e-6)  # the independent DOP853
+    row = {"law": "bumper", "k": K_C, "mass": MASS, "v0": 1.5, "e": 0.65, "thickness": THICK,
+           "k_rubber": K_R, "e_rubber": 0.8, "crush": CRUSH}  # fmt: skip
+    assert _single_impact(row).e_effective == pytest.approx(ref.e_effective, rel=1e-12)
+    missing = CliRunner().invoke(app, args[:10] + ["--thickness", "0.01"])
+    assert missing.exit_code == 2 and "go together" in missing.output

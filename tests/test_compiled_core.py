@@ -7,7 +7,7 @@ import ast
 from pathlib import Path
 
 import pytest
-from _laws import bumper_tuple
+from _laws import layer
 
 from pounding import _numba
 from pounding import friction as fr
@@ -26,8 +26,7 @@ FRICTION_VALUES = {"mu_s": 0.12, "mu_d": 0.1, "mu_min": 0.04, "mu_max": 0.1, "a"
 
 @pytest.mark.parametrize("law", LAWS_BY_ID, ids=lambda law: law.name)
 def test_compiled_contact_dispatch_calls_the_registered_kernel(law):
-    bumper = bumper_tuple() if law.is_bumper else None
-    p = contact_parameters(law, k=1e9, e=0.7, mass=1e5, delta_m=5e-3, bumper=bumper)
+    p = contact_parameters(law, k=1e9, e=0.7, mass=1e5, delta_m=5e-3, **layer(law.name, 5e-3))
     for d, dd, v0, d_prev, f_prev in [(1e-3, 0.3, 0.5, 8e-4, 2e4), (2e-3, -0.2, 0.5, 2.1e-3, 9e4),
                                       (-1e-3, 0.2, 0.5, 0.0, 0.0)]:  # fmt: skip
         got = contact_eval(law.kernel_id, d, dd, v0, d_prev, f_prev, p)

@@ -95,7 +95,7 @@ def test_registry_names_fixed_by_issue_2():
     expected = {
         "linear", "kelvin", "kelvin_approach", "hertz", "hertz_kelvin", "lankarani_nikravesh",
         "flores", "hu_guo", "gonthier", "hunt_crossley", "jankowski", "bilinear",
-        "bumper",  # issue 18
+        "bumper", "filler",  # issue 18
     }  # fmt: skip
     assert set(LAW_NAMES) == expected
     assert len(LAW_NAMES) == len(expected)
@@ -157,6 +157,9 @@ def _params(name, e):
         kwargs["delta_m"] = _d_star(name)
     if law.is_bumper:  # a layer of half the reference penetration, met through at 90 %
         kwargs["bumper"] = (0.5 * _d_star(name), 0.05 * _k(name), 0.8, 0.9)
+    if law.is_filler:  # a filler as stiff as a tenth of the reference force, crushed at δ*/2
+        k_f = 0.1 * _f_ref(name) / _d_star(name)
+        kwargs["filler"] = (k_f, 0.2 * math.sqrt(k_f * MASS), 0.5 * _d_star(name))
     return contact_parameters(name, k=_k(name), mass=MASS, **kwargs)
 
 
@@ -232,7 +235,9 @@ def test_tangents_equal_central_differences(name, data):
     # puts its corners on both sides, so comparing the corners' branch signatures detects it.
     def branch(x, xd):
         f, kd, kv = kern(x, xd)
-        return (f == 0.0, kv == 0.0, kd if law.is_bilinear else None)
+        # the filler's crushed contact switches its damping at δ̇ = 0 behind the filler's dashpot
+        switch = xd > 0.0 if law.is_filler else None
+        return (f == 0.0, kv == 0.0, kd if law.is_bilinear else None, switch)
 
     corners = {branch(d + sd * bd, dd + sv * bv) for sd in (-1, 0, 1) for sv in (-1, 0, 1)}
     assume(len(corners) == 1)
@@ -261,6 +266,8 @@ def _damping_at_contact(name, p, v0):
         k, n, zeta, m = p[:4]
         v = max(v0, V0_FLOOR)
         return zeta * m * v / (m * v * v / k) ** (1.0 / (n + 1.0))
+    if name == "filler":
+        return p[5]  # the filler's own dashpot
     return p[2]  # kelvin, kelvin_approach: c = 2ξ√(k m̄), packed
 
 

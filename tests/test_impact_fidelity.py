@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _laws import BUMPER, bumper_tuple, with_bumper
+from _laws import BUMPER, FILLED, FILLER, layer, with_layer
 
 from pounding.contact.calibrate import effective_restitution
 from pounding.contact.laws import LAWS_BY_ID
@@ -49,7 +49,7 @@ def _law_params(name: str) -> dict:
         params["e"] = 0.65
     if name == "bilinear":
         params["delta_m"] = 0.005
-    return with_bumper(name, params)
+    return with_layer(name, params)
 
 
 @pytest.mark.parametrize("law", [law.name for law in LAWS_BY_ID])
@@ -61,16 +61,17 @@ def test_free_mass_kicked_into_a_wall_rebounds_at_the_laws_own_restitution(law):
     building = ShearBuilding("A", [MASS], [k_b], damping=ModalDamping((0.0,)))
     t = 0.005 * np.arange(101)
     ground = GroundMotion(np.where(t <= 0.05, -10.0 * np.sin(np.pi * t / 0.05), 0.0), 0.005)
+    if law in FILLED:
+        pytest.skip("a filler touches both faces from the start: no free impact to compare with")
     params = _law_params(law)
     gap = 0.01 + params.get("thickness", 0.0)  # a bumper is struck after the kick, as the others
     system = assemble([building], [Contact("A", "wall", gap=gap, law=law, **params)])
     ds = simulate(system, ground)
     imp = ds.pounding.impacts()
     assert len(imp) == 1
-    kernel_params = {k: v for k, v in params.items() if k not in BUMPER}
-    bumper = bumper_tuple() if law == "bumper" else None
+    kernel_params = {k: v for k, v in params.items() if k not in {**BUMPER, **FILLER}}
     single = effective_restitution(
-        law, mass=MASS, v0=float(imp.v0.iloc[0]), bumper=bumper, **kernel_params
+        law, mass=MASS, v0=float(imp.v0.iloc[0]), **layer(law, gap), **kernel_params
     )
     assert imp.rebound_ratio.iloc[0] == pytest.approx(single.e_effective, abs=2e-4)
     e = ds["energy"].isel(time=-1)
@@ -157,7 +158,7 @@ def _scaled_pair(law: str, lam: float):
         params["delta_m"] = 0.005 * lam
     a = ShearBuilding.uniform("A", 3, period=0.3, mass=3e5)
     b = ShearBuilding.uniform("B", 8, period=1.0, mass=3e5)
-    params = with_bumper(law, params, lam)
+    params = with_layer(law, params, lam)
     return assemble([a, b], [Contact("A", "B", gap=0.02 * lam, law=law, **params)])
 
 

@@ -95,7 +95,7 @@ def _pack(
         p[:3] = bilinear_stiffnesses(k=k, n=n, e=1.0, a=a, delta_m=delta_m, dissipation=value)
         return p
     p[0], p[1] = k, n
-    if law.damping == "xi" and law.name != "jankowski":
+    if law.damping == "xi" and law.name not in ("jankowski", "filler"):
         p[2] = 2.0 * value * math.sqrt(k * mass)
     elif law.has_damping:
         p[2] = value
@@ -154,6 +154,7 @@ def contact_parameters(
     calibration: str = "nominal",
     v0: float | None = None,
     bumper: tuple[float, float, float, float] | None = None,
+    filler: tuple[float, float, float] | None = None,
 ) -> np.ndarray:
     """Kernel parameter array of a contact law.
 
@@ -182,6 +183,9 @@ def contact_parameters(
     bumper : (thickness [m], k_rubber [N/m^n], e_rubber, crush), optional
         The rubber layer of ``bumper`` (required by it, refused by the others): the crushed contact
         (k, e) starts at the compression crush × thickness.
+    filler : (k_filler [N/m], c_filler [N s/m], d_thr [m]), optional
+        The viscoelastic filler of ``filler`` (required by it, refused by the others): the crushed
+        contact (k, e, Jankowski's) starts at the compression d_thr.
     """
     law = get_contact_law(law)
     k, n, e, mass, delta_m = _validate(
@@ -209,6 +213,28 @@ def contact_parameters(
         p = _pack(law, k, n, law.damping_from_e(e), mass, a, delta_m)  # type: ignore[misc]
         p[4], p[5], p[6] = k_r, law.damping_from_e(e_r), crush * thickness  # type: ignore[misc]
         return p
+    if law.is_filler:
+        if filler is None:
+            raise PoundingInputError(
+                "law 'filler' needs k_filler [N/m], c_filler [N s/m] and the gap it fills"
+            )
+        if calibration == "exact":
+            raise PoundingInputError(
+                "law 'filler': calibration = 'exact' is not available (the filler sets the "
+                "rebound); allowed: nominal"
+            )
+        k_f, c_f, d_thr = (float(v) for v in filler)
+        k_f = _positive(k_f, "k_filler", law.name, "> 0 [N/m]")
+        if not (math.isfinite(c_f) and c_f >= 0.0):
+            raise PoundingInputError(f"law 'filler': c_filler = {c_f}; allowed: >= 0 [N s/m]")
+        d_thr = _positive(d_thr, "the filled gap", law.name, "> 0 [m]")
+        p = _pack(law, k, n, law.damping_from_e(e), mass, a, delta_m)  # type: ignore[misc]
+        p[4], p[5], p[6], p[7] = k_f, c_f, d_thr, 1.0
+        return p
+    if filler is not None:
+        raise PoundingInputError(
+            f"law {law.name!r} takes no filler (k_filler, c_filler): use law = 'filler'"
+        )
     if bumper is not None:
         raise PoundingInputError(
             f"law {law.name!r} takes no bumper (thickness, k_rubber, e_rubber, crush): use "
@@ -388,6 +414,7 @@ def effective_restitution(
     delta_m: float | None = None,
     calibration: str = "nominal",
     bumper: tuple[float, float, float, float] | None = None,
+    filler: tuple[float, float, float] | None = None,
 ) -> ImpactResult:
     """Simulate one free impact of ``mass`` [kg] at ``v0`` [m/s] against a rigid wall.
 
@@ -417,6 +444,7 @@ def effective_restitution(
         calibration=calibration,
         v0=v0,
         bumper=bumper,
+        filler=filler,
     )
     # the bumper's rubber sets the impact's scales (its stiff crushed contact comes later, if at all)
     return _impact(law, p, mass, v0, float(p[4] if law.is_bumper else k), n_used)

@@ -14,9 +14,9 @@ penetration and force at the last converged state (history of the hysteretic bil
 the others) and ``p`` a float array of kernel parameters packed by :func:`pounding.contact.calibrate.
 contact_parameters`. Layout of ``p``: ``p[0]`` = k [N/m^n], ``p[1]`` = n [-] for every law but
 ``bilinear`` (whose ``p`` is K1, K2, δ_y); ``p[2]`` the law's damping coefficient in kernel form;
-``p[3]`` the effective mass m̄ [kg] where the law needs it; ``p[4:7]`` the rubber layer of
-``bumper`` (k_r, its χ v0, the compression d_thr at which the crushed contact starts), zero for the
-others.
+``p[3]`` the effective mass m̄ [kg] where the law needs it; ``p[4:7]`` the layer in the gap of
+``bumper`` (k_r, its χ v0, the compression d_thr at which the crushed contact starts) and of
+``filler`` (k_f, c_f, d_thr), ``p[7]`` = 1 for the filler; zero for the others.
 
 The registry :data:`CONTACT_LAWS` maps names (and aliases) to :class:`ContactLaw` records: kernel,
 kernel id (the index the compiled dispatcher switches on), the relation between the nominal
@@ -239,6 +239,42 @@ def bumper_kernel(d, dd, v0, d_prev, f_prev, p):
     return f, kd, kv
 
 
+def filler_kernel(d, dd, v0, d_prev, f_prev, p):
+    r"""Viscoelastic filler filling the whole gap, then the structures meeting through it [9]:
+
+    .. math:: F = \max(k_f\delta + c_f\dot\delta, 0)
+              + k_h\langle\delta - d_{thr}\rangle^n + c(\delta)\dot\delta\,[\dot\delta > 0]
+
+    δ is the filler's compression (the element gap is zero), k_f = p[4] [N/m], c_f = p[5] [N s/m],
+    d_thr = p[6] (the compression at which the structures meet), and the crushed contact is
+    Jankowski's: k_h = p[0], n = p[1], c(δ) = 2ξ√(k_h ⟨δ − d_thr⟩^(n−1) m̄), ξ = p[2], m̄ = p[3],
+    damped while approaching only (its damping does not depend on an impact speed the filler's
+    own contact would set).
+    """
+    if d <= 0.0:
+        return 0.0, 0.0, 0.0
+    f = p[4] * d + p[5] * dd
+    if f > 0.0:
+        kd, kv = p[4], p[5]
+    else:
+        f, kd, kv = 0.0, 0.0, 0.0
+    dc = d - p[6]
+    if dc > 0.0:  # Jankowski's law on dc (written out: a compiled kernel calls no Python function)
+        k = p[0]
+        n = p[1]
+        dn1 = dc ** (n - 1.0)
+        f += k * dn1 * dc
+        kd += n * k * dn1
+        if dd > 0.0:
+            c0 = 2.0 * p[2] * math.sqrt(k * p[3])
+            h = 0.5 * (n - 1.0)
+            dh = dc**h
+            f += c0 * dh * dd
+            kd += c0 * h * dh / dc * dd
+            kv += c0 * dh
+    return f, kd, kv
+
+
 def bilinear_rate(d, dd, f, p):
     """dF/dt [N/s] of the bilinear loop at state (δ, F) moving at δ̇ (the ivp form of the same law)."""
     if d <= 0.0:
@@ -259,6 +295,9 @@ def stored_energy(is_bilinear, d, f, p):
     """
     if d <= 0.0:
         return 0.0
+    if p[7] > 0.0:  # filler: its spring, and the crushed contact beyond d_thr
+        dc = max(d - p[6], 0.0)
+        return 0.5 * p[4] * d * d + p[0] * dc ** (p[1] + 1.0) / (p[1] + 1.0)
     if p[4] > 0.0:  # bumper: the rubber layer, and the crushed contact beyond d_thr
         dc = max(d - p[6], 0.0)
         return (p[4] * d ** (p[1] + 1.0) + p[0] * dc ** (p[1] + 1.0)) / (p[1] + 1.0)
@@ -458,6 +497,11 @@ class ContactLaw:
         """A rubber layer in the gap (:func:`bumper_kernel`): thickness, k_rubber, e_rubber."""
         return self.name == "bumper"
 
+    @property
+    def is_filler(self) -> bool:
+        """A viscoelastic filler filling the gap (:func:`filler_kernel`): k_filler, c_filler."""
+        return self.name == "filler"
+
 
 _LAWS = (
     ContactLaw("linear", 0, linear_kernel, "none", None, 1.0, "F = k δ",
@@ -500,6 +544,10 @@ _LAWS = (
                "the rubber (e_rubber) and the crushed contact (e); gap less the bumper thickness",
                "Polycarpou, Komodromos & Polycarpou 2013, EESD 42(1) 81-100; Lankarani & Nikravesh "
                "1990", ("rubber_bumper",)),
+    ContactLaw("filler", 13, filler_kernel, "xi", xi_jankowski, 1.5,
+               "F = max(k_f δ + c_f δ̇, 0) + k ⟨δ − d_thr⟩^n + c δ̇ (approaching), c = 2ξ√(k ⟨δ − "
+               "d_thr⟩^(n−1) m̄): a viscoelastic filler filling the gap, then the structures "
+               "through it", "Jankowski 2005, EESD 34(6) 595-611 (both parts)", ("gap_filler",)),
 )  # fmt: skip
 
 #: Contact laws by registry name (aliases included).

@@ -19,6 +19,7 @@ _hunt_crossley = jit(_laws.hunt_crossley_kernel)
 _jankowski = jit(_laws.jankowski_kernel)
 _bilinear = jit(_laws.bilinear_kernel)
 _bumper = jit(_laws.bumper_kernel)
+_filler = jit(_laws.filler_kernel)
 _stored = jit(_laws.stored_energy)
 bilinear_rate = jit(_laws.bilinear_rate)
 
@@ -44,7 +45,9 @@ def contact_eval(law, d, dd, v0, d_prev, f_prev, p):
         return _jankowski(d, dd, v0, d_prev, f_prev, p)
     if law == 11:
         return _bilinear(d, dd, v0, d_prev, f_prev, p)
-    return _bumper(d, dd, v0, d_prev, f_prev, p)
+    if law == 12:
+        return _bumper(d, dd, v0, d_prev, f_prev, p)
+    return _filler(d, dd, v0, d_prev, f_prev, p)
 
 
 @jit

@@ -81,8 +81,8 @@ def gap_force(gaps, c, d, dd):
     itself stands in for v0."""
     v0 = gaps.v0[c] if gaps.inside[c] else max(dd, 0.0)
     p = gaps.params
-    # a tuple, not a row view: no array per call (the last three: a bumper's rubber layer)
-    pc = (p[c, 0], p[c, 1], p[c, 2], p[c, 3], p[c, 4], p[c, 5], p[c, 6])
+    # a tuple, not a row view: no array per call (p[4:8]: a bumper's or filler's layer)
+    pc = (p[c, 0], p[c, 1], p[c, 2], p[c, 3], p[c, 4], p[c, 5], p[c, 6], p[c, 7])
     return contact_eval(gaps.law[c], d, dd, v0, gaps.hd[c], gaps.hf[c], pc)
 
 

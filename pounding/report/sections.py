@@ -15,6 +15,7 @@ import xarray as xr
 from pounding import plots
 from pounding.contact.calibrate import effective_restitution
 from pounding.contact.laws import get_contact_law
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import INTENSITY_MEASURES, GroundMotion, intensity_measures
 from pounding.report.document import NOMINAL_V0, Plot, Section, Table, _g
 from pounding.simulate import E_MISMATCH  # the run's own check: one threshold
@@ -24,15 +25,24 @@ from pounding.units import G
 
 @functools.lru_cache(maxsize=256)
 def _impact_of(law: str, k: float, mass: float, v0: float, e: Any, n: Any, a: float,
-               delta_m: Any, calibration: str) -> Any:  # fmt: skip
+               delta_m: Any, calibration: str, bumper: Any = None) -> Any:  # fmt: skip
     return effective_restitution(
-        law, k=k, mass=mass, v0=v0, e=e, n=n, a=a, delta_m=delta_m, calibration=calibration
-    )
+        law, k=k, mass=mass, v0=v0, e=e, n=n, a=a, delta_m=delta_m, calibration=calibration,
+        bumper=bumper,
+    )  # fmt: skip
 
 
 def _single_impact(r: dict[str, Any]) -> Any:
     """One free impact of the row's law (cached: the table and the warnings both need it)."""
     law = get_contact_law(r["law"])
+    if law.is_filler:
+        raise PoundingInputError("a filler touches both faces from rest: no free impact")
+    bumper = (
+        tuple(float(r[key]) for key in ("thickness", "k_rubber", "e_rubber"))
+        + (float(r.get("crush", 1.0)),)
+        if law.is_bumper
+        else None
+    )
     return _impact_of(
         law.name,
         float(r["k"]),
@@ -43,6 +53,7 @@ def _single_impact(r: dict[str, Any]) -> Any:
         float(r.get("a", 0.1)),
         r.get("delta_m"),
         r.get("calibration", "nominal"),
+        bumper,
     )
 
 
@@ -53,8 +64,8 @@ def law_warnings(rows: list[dict[str, Any]]) -> list[str]:
     for r in rows:
         law = get_contact_law(r["law"])
         e_nom = r.get("e")
-        if not (law.has_damping and e_nom):
-            continue
+        if not (law.has_damping and e_nom) or law.is_bumper or law.is_filler:
+            continue  # a bumper's or filler's rebound is its layer's, not one e's
         try:
             e_eff = _single_impact(r).e_effective
         except ValueError:

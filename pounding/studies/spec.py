@@ -54,9 +54,13 @@ LAW_PARAM_KEYS = (
     "k_rubber",
     "e_rubber",
     "crush",
+    "k_filler",
+    "c_filler",
 )
 #: The rubber layer of law "bumper" (dropped for the other laws).
 _BUMPER_KEYS = ("thickness", "k_rubber", "e_rubber", "crush")
+#: The filler of law "filler" (dropped for the other laws).
+_FILLER_KEYS = ("k_filler", "c_filler", "crush")
 # A stand-in [ground_motion] used while the record comes from the `record` axis (never integrated).
 _PLACEHOLDER_MOTION = {"type": "sine_pulse", "duration": 0.01, "dt": 0.005}
 
@@ -572,9 +576,9 @@ def _normalise_contact(c: dict[str, Any]) -> dict[str, Any]:
         out.pop("delta_m", None)
     if not law.has_exponent:
         out.pop("n", None)
-    if not law.is_bumper:
-        for key in _BUMPER_KEYS:
-            out.pop(key, None)
+    keep = {*(_BUMPER_KEYS if law.is_bumper else ()), *(_FILLER_KEYS if law.is_filler else ())}
+    for key in {*_BUMPER_KEYS, *_FILLER_KEYS} - keep:
+        out.pop(key, None)
     return out
 
 
