@@ -66,7 +66,12 @@ ALL_LAW_PARAMS: dict[str, dict[str, float]] = {
     "hu_guo": {"k": 2.75e9, "n": 1.5, "e": 0.65},
     "gonthier": {"k": 2.75e9, "n": 1.5, "e": 0.65},
     "hunt_crossley": {"k": 2.75e9, "n": 1.5, "e": 0.65},
-}
+    # a layer in the gap (gaps of 2 cm and more): 15 mm of rubber, or a filler in the whole gap
+    "bumper": {"k": 2.75e9, "n": 1.5, "e": 0.65, "thickness": 0.015, "k_rubber": 3.0e8,
+               "e_rubber": 0.8, "crush": 0.9},
+    "filler": {"k": 2.75e9, "n": 1.5, "e": 0.65, "k_filler": 5.0e7, "c_filler": 5.0e5,
+               "crush": 0.8},
+}  # fmt: skip
 
 #: Models by name: (description, builder).
 MODELS = ("a", "b", "c20", "c3row", "c40")

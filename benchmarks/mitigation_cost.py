@@ -1,0 +1,72 @@
+"""Per-step cost of the mitigation elements on model b: a rubber bumper or a filler in the gap, and
+coupling links, against the bare gap (issue 18's per-step benchmark).
+
+Fixed dt = 1e-4 s over the 30 s benchmark record, the median of ``--repeats`` runs after a first
+(compiling) one; the same analysis as ``yielding_cost.py``'s elastic row with the contacts changed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _common import fixed_step, machine, machine_markdown, median_time, out_dirs, write_json  # noqa: E402
+from models import DURATION, build, record  # noqa: E402
+
+from pounding import Link, assemble  # noqa: E402
+from pounding.simulate import AnalysisOptions, run  # noqa: E402
+
+
+def _linked(system, link_type: str, **params):
+    links = [Link("A", "B", type=link_type, floors="common", **params)]
+    return assemble(system.buildings, system.contacts, links)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--dt", type=float, default=1e-4)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args(argv)
+    repeats = 2 if args.quick else args.repeats
+    gm, rec = record()
+    opts = AnalysisOptions(**fixed_step(args.dt), duration=DURATION)
+    n_steps = round(DURATION / args.dt)
+    base = build("b", "lankarani_nikravesh")
+    cases = (
+        ("bare gap (lankarani_nikravesh)", base),
+        ("rubber bumper", build("b", "bumper")),
+        ("viscoelastic filler", build("b", "filler")),
+        ("kelvin links + bare gap", _linked(base, "kelvin", k=5e7, c=5e5)),
+        ("viscous dampers (alpha 0.5) + bare gap", _linked(base, "viscous", c=2e6, alpha=0.5)),
+        ("kelvin links + bumper", _linked(build("b", "bumper"), "kelvin", k=5e7, c=5e5)),
+    )
+    rows = {}
+    for label, system in cases:
+        run(system, gm, opts)  # compiled and cached before the timing
+        seconds, _, (raw, _info) = median_time(lambda s=system: run(s, gm, opts), repeats)
+        rows[label] = {
+            "seconds": seconds,
+            "us_per_step": 1e6 * seconds / n_steps,
+            "newton_iterations": int(raw.info["n_newton_iterations"]),
+            "impacts": int(len(raw.impacts["v0"])),
+        }
+        print(f"{label:40s} {rows[label]['us_per_step']:6.2f} µs/step  ({seconds:.3f} s, "
+              f"{rows[label]['impacts']} impacts)")  # fmt: skip
+    first = next(iter(rows))
+    for label in rows:
+        rows[label]["ratio_to_bare_gap"] = rows[label]["us_per_step"] / rows[first]["us_per_step"]
+    info = machine()
+    print(machine_markdown(info))
+    payload = {"command": " ".join(["python benchmarks/mitigation_cost.py", *(argv or sys.argv[1:])]),
+               "record": rec, "dt": args.dt, "machine": info, "rows": rows}  # fmt: skip
+    path = write_json("mitigation_cost.json", payload, out_dirs(args.quick)[0])
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
