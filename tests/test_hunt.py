@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from scipy import optimize, stats
+from test_ida import MODEL_TOML
 from test_ida import _case as _ida_case
 from typer.testing import CliRunner
 
@@ -57,28 +58,9 @@ def _case(records=RECORDS, **hunt) -> dict:
     return case
 
 
-# _case() as a case file
-_HUNT_TOML = """
-title = "hunt-and-fill IDA of an EPP SDOF with P-Δ"
-[[building]]
-name = "A"
-masses = [2.0e5]
-stiffnesses = [3.0e7]
-heights = [3.5]
-damping = {{ ratio = 0.05 }}
-stories = {{ model = "bilinear", yield_drift = 0.004, hardening = 0.0 }}
-p_delta = true
-[[contact]]
-left = "A"
-right = "wall"
-gap = 0.02
-law = "hertz"
-k = 2.0e9
-[analysis]
-method = "newmark"
-output_dt = 0.02
-collapse_drift = 0.05
-[ida]
+def _hunt_toml(records: list[str]) -> str:
+    """_case() as a case file."""
+    ida = f"""[ida]
 im = "sa"
 levels = "hunt"
 records = {records!r}
@@ -87,6 +69,7 @@ limit_states = ["collapse", 0.01]
 [ida.hunt]
 max_runs = 10
 """
+    return MODEL_TOML + ida
 
 
 # --------------------------------------------------------------------------------------------------
@@ -299,7 +282,7 @@ def test_a_listed_level_ida_resumes_after_sigkill_without_running_anything_twice
 def test_hunt_ida_cli_resumes_after_sigkill_without_running_anything_twice(tmp_path, hunted):
     _, _, ds = hunted
     case = tmp_path / "hunt.toml"
-    case.write_text(_HUNT_TOML.format(records=RECORDS))
+    case.write_text(_hunt_toml(RECORDS))
     out = tmp_path / "hunt.nc"
     store = default_store(out)
     cmd = [sys.executable, "-c", _CLI, "ida", str(case), "-o", str(out), "--jobs", "2"]

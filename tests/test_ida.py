@@ -130,17 +130,15 @@ def test_bad_ida_tables_are_refused_naming_the_key(change, message):
     assert message in str(err.value)
 
 
-def test_cli_ida_runs_resumes_and_fragility_writes_curves_and_fits(tmp_path):
-    case = tmp_path / "ida.toml"
-    case.write_text(
-        f"""title = "IDA of an SDOF against a wall"
+#: _case()'s model as a case file (an [ida] table goes after it).
+MODEL_TOML = """title = "IDA of an SDOF against a wall"
 [[building]]
 name = "A"
 masses = [2.0e5]
 stiffnesses = [3.0e7]
 heights = [3.5]
-damping = {{ ratio = 0.05 }}
-stories = {{ model = "bilinear", yield_drift = 0.004 }}
+damping = { ratio = 0.05 }
+stories = { model = "bilinear", yield_drift = 0.004 }
 p_delta = true
 [[contact]]
 left = "A"
@@ -151,7 +149,14 @@ k = 2.0e9
 [analysis]
 output_dt = 0.02
 collapse_drift = 0.05
-[ida]
+"""
+
+
+def test_cli_ida_runs_resumes_and_fragility_writes_curves_and_fits(tmp_path):
+    case = tmp_path / "ida.toml"
+    case.write_text(
+        MODEL_TOML
+        + f"""[ida]
 im = "sa"
 levels = [0.5, 2.5]
 records = {json.dumps(RECORDS[:2])}
