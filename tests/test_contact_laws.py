@@ -235,8 +235,14 @@ def test_tangents_equal_central_differences(name, data):
     # puts its corners on both sides, so comparing the corners' branch signatures detects it.
     def branch(x, xd):
         f, kd, kv = kern(x, xd)
-        # the filler's crushed contact switches its damping at δ̇ = 0 behind the filler's dashpot
-        switch = xd > 0.0 if law.is_filler else None
+        # the filler's crushed contact switches its damping at δ̇ = 0 behind the filler's dashpot,
+        # and starts at d_thr = p[6] with Jankowski's c(δ)δ̇, whose ∂/∂δ ~ δ^(-3/4) is unbounded there
+        switch = (xd > 0.0, x > p[6]) if law.is_filler else None
+        if (
+            law.is_bumper
+        ):  # each Hunt-Crossley term clamps on its own (1 + χ δ̇ = 0), behind the other
+            v = max(v0, V0_FLOOR)
+            switch = (1.0 + p[5] / v * xd > 0.0, 1.0 + p[2] / v * xd > 0.0, x > p[6])
         return (f == 0.0, kv == 0.0, kd if law.is_bilinear else None, switch)
 
     corners = {branch(d + sd * bd, dd + sv * bv) for sd in (-1, 0, 1) for sv in (-1, 0, 1)}
