@@ -493,8 +493,9 @@ def study_fragility(
     maximum likelihood over the levels) or ``"ida"`` (each record's capacity is the lowest level at
     which it reached the limit state; records that never did are censored at the highest level).
     Default: stripes, or ida for a hunt-and-fill IDA (``ida_run`` dimension: every record has
-    levels of its own, and is censored at its highest run; no ``reached_fraction`` or
-    ``pounding_probability`` per level then). ``n_boot`` > 0 adds bootstrap percentile intervals (``level``). Returns a Dataset with
+    levels of its own, and is censored at its highest run; a failed run reaches every limit state,
+    as the hunt counted it; no ``reached_fraction`` or ``pounding_probability`` per level then).
+    ``n_boot`` > 0 adds bootstrap percentile intervals (``level``). Returns a Dataset with
     ``fragility_median`` [g], ``fragility_beta``, their intervals (``_low``, ``_high``), the
     observed ``reached_fraction`` of the records per level, ``fit_note`` (why a fit is missing),
     ``pounding_probability`` (the fraction of the records that pound at each level) and, when the
@@ -540,7 +541,10 @@ def study_fragility(
     if hunt:
         drift = _drift(ds, building).transpose(*others, step, "record").values
     for i, limit in enumerate(limits):
-        hit = _exceeded(ds, limit, building).transpose(*others, step, "record")
+        hit = _exceeded(ds, limit, building)
+        if hunt:  # the hunt counted a failed run as reaching its limit state (V&C): so here
+            hit = hit.where(ds["run_status"] != "failed", 1.0)
+        hit = hit.transpose(*others, step, "record")
         for index in np.ndindex(*shape[1:]):
             runs = hit.values[index]  # (level or run, record)
             lv = run_levels[index] if hunt else np.broadcast_to(levels[:, None], runs.shape)
@@ -561,9 +565,7 @@ def study_fragility(
                     if hunt and limit not in (COLLAPSE, POUNDING) and reached.any():
                         cap[r] = _crossing(lv[:, r], drift[index][:, r], runs[:, r], float(limit))
                 if hunt:
-                    with np.errstate(invalid="ignore"):
-                        analysed = np.where(np.isfinite(runs), lv, np.nan)
-                    top = np.nanmax(np.where(np.isnan(analysed), -np.inf, analysed), axis=0)
+                    top = np.max(np.where(np.isfinite(runs), lv, -np.inf), axis=0)
                 capacities[(i, *index)] = np.where(np.isfinite(cap), cap, np.nan)
             try:
                 use = n > 0

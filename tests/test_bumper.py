@@ -284,3 +284,22 @@ def test_laws_restitution_and_the_report_take_the_bumpers_layer(tmp_path):
     assert _single_impact(row).e_effective == pytest.approx(ref.e_effective, rel=1e-12)
     missing = CliRunner().invoke(app, args[:10] + ["--thickness", "0.01"])
     assert missing.exit_code == 2 and "go together" in missing.output
+
+
+@pytest.mark.parametrize("law", ["bumper", "filler"])
+def test_stored_energy_of_a_layer_is_the_work_of_its_elastic_force(law):
+    """The ledger's recoverable energy: ∫₀^δ F(s, δ̇ = 0) ds by quadrature of the written-out laws."""
+    from scipy.integrate import quad
+
+    from pounding.contact.laws import stored_energy
+
+    if law == "bumper":
+        p = contact_parameters(law, k=K_C, e=0.65, mass=MASS, bumper=(THICK, K_R, 0.8, CRUSH))
+        force, kink = (lambda s: _force(s, 0.0, 1.0, 0.65, 0.8)), CRUSH * THICK
+    else:
+        p = contact_parameters(law, k=K_C, e=0.65, mass=MASS, filler=(K_F, C_F, 0.8 * GAP))
+        force, kink = (lambda s: _filler_force(s, 0.0)), 0.8 * GAP
+    for d in (0.5 * kink, kink, 1.3 * kink):
+        work = quad(force, 0.0, d, points=[kink] if d > kink else None, epsabs=0, epsrel=1e-12)[0]
+        f = float(contact_force(law, d, 0.0, p)[0])
+        assert stored_energy(False, d, f, p) == pytest.approx(work, rel=1e-9)

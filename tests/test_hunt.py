@@ -239,6 +239,7 @@ def test_hunt_on_a_dask_cluster_gives_the_same_traces(hunted, tmp_path):
         dashboard_address=None,
     ) as cluster:
         dask = run_hunt(study, tmp_path / "dask", scheduler=cluster.scheduler_address)
+    assert len(run_log(tmp_path / "dask")) == ds.attrs["unique_runs"] > 0  # all ran there
     _same_traces(ds, dask)
 
 

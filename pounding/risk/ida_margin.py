@@ -21,7 +21,16 @@ import numpy as np
 
 from pounding.errors import PoundingInputError
 from pounding.fragility import COLLAPSE, study_fragility, variants
-from pounding.risk.collapse_margin import collapse_margin
+from pounding.risk.collapse_margin import (
+    _ductility,
+    _period,
+    _sdc,
+    acceptable_acmr,
+    collapse_margin,
+    mce_spectral_acceleration,
+    spectral_shape_factor,
+    total_uncertainty,
+)
 
 _FIELDS = {
     "median_collapse_sa": ("g", "median collapse intensity Ŝ_CT"),
@@ -55,6 +64,18 @@ def ida_collapse_margin(
             "allowed: sa (FEMA P695 scales to Sa(T) at the fundamental period)"
         )
     period = float(im["period"])
+    # the design values hold for every variant (and are checked before the fits)
+    t, mu = _period(period), _ductility(ductility)
+    beta = total_uncertainty(mu, design, test, model)
+    design_values = {
+        "period": t,
+        "sdc": _sdc(sdc),
+        "s_mt": mce_spectral_acceleration(t, _sdc(sdc)),
+        "ssf": spectral_shape_factor(t, mu, _sdc(sdc)),
+        "beta_total": beta,
+        "acmr10": acceptable_acmr(beta, 0.10),
+        "acmr20": acceptable_acmr(beta, 0.20),
+    }
     fr = study_fragility(ds, COLLAPSE, building=building, method="ida")
     cap = fr["capacity"].sel(limit_state=COLLAPSE, drop=True)
     dims = [d for d in cap.dims if d != "record"]
@@ -62,7 +83,6 @@ def ida_collapse_margin(
     out = {name: np.full(shape, np.nan) for name in _FIELDS}
     passes = np.zeros(shape, dtype=bool)
     notes = np.full(shape, "", dtype=object)
-    first = None
     for at in variants(cap, dims) if dims else [{}]:  # the no-contact variant once
         index = tuple(at[d] for d in dims)
         values = cap.isel(at).values
@@ -72,13 +92,9 @@ def ida_collapse_margin(
         except PoundingInputError as exc:
             notes[index] = str(exc)
             continue
-        first = first or cm
         for name in _FIELDS:
             out[name][index] = getattr(cm, name)
         passes[index] = cm.passes
-    if first is None:
-        # the design values do not depend on the records: compute them for the attributes anyway
-        first = collapse_margin([1.0, 1.0, 1.0], period, ductility, sdc, design, test, model)
     coords = {d: cap[d] for d in dims}
     res = xr.Dataset(
         {
@@ -103,13 +119,7 @@ def ida_collapse_margin(
         "records' collapse Sa(T)"
     )
     res.attrs.update(
-        period=first.period,
-        sdc=first.sdc,
-        s_mt=first.s_mt,
-        ssf=first.ssf,
-        beta_total=first.beta_total,
-        acmr10=first.acmr10,
-        acmr20=first.acmr20,
+        **design_values,
         ductility=float(ductility),
         ratings=f"design {design}, test {test}, model {model}",
         building=building or "any",

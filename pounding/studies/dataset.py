@@ -362,7 +362,12 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         im = study.im
         data["record_im"] = (
             ("record",),
-            np.array([im.of(r.motion) / G if r.motion else np.nan for r in study.axes["record"]]),
+            np.array(
+                [
+                    study.record_intensity(r) / G if r.motion else np.nan
+                    for r in study.axes["record"]
+                ]
+            ),
             {"units": "g", "long_name": f"{im.label.removesuffix(' [g]')} of the record as read"},
         )
     if study.im is not None and study.scaling == "set":
@@ -489,6 +494,7 @@ def assemble_hunt(
     store: str | Path,
     keys: np.ndarray,
     levels: np.ndarray,
+    hits: np.ndarray,
     errors: Mapping[str, str],
 ) -> xr.Dataset:
     """The Dataset of a hunt-and-fill IDA: the study's variables over (variant axes..., record,
@@ -496,7 +502,8 @@ def assemble_hunt(
     [g], ``scale_factor`` and, per record, ``collapse_im`` (the lowest level that reached the hunt's
     limit state; NaN when none did), ``collapse_im_lower`` (the highest level below it that did
     not) and ``im_max_run`` (the highest level run: where a record without collapse is censored).
-    Slots a trace did not need have ``run_status`` "unused"."""
+    Slots a trace did not need have ``run_status`` "unused". ``hits``: whether each run reached
+    the limit state, as the hunt decided it (:func:`pounding.studies.run.run_hunt`)."""
     from pounding.studies.hunt import capacity
 
     assert study.hunt is not None and study.im is not None
@@ -505,15 +512,8 @@ def assemble_hunt(
     plan = StudyPlan(pseudo, Path(store), keys, None, {}, (), dict(errors))
     ds = assemble(plan)
     dims = ds["run_status"].dims
-    reached = ds["run_status"] != "ok"
     limit = study.hunt.limit_state
-    if limit == "pounding":
-        reached = reached | (ds["impact_count"].sum("contact") > 0)
-    elif "collapse_time" in ds:
-        reached = reached | np.isfinite(ds["collapse_time"]).any("building")
-    if limit not in ("collapse", "pounding"):
-        reached = reached | (ds["peak_drift_ratio"].max(["building", "story"]) >= float(limit))
-    hit = reached.values & (keys != "")
+    hit = hits & (keys != "")
     cap = np.full(keys.shape[:-1], np.nan)
     lower, top = np.full_like(cap, np.nan), np.full_like(cap, np.nan)
     scale = np.full(keys.shape, np.nan)

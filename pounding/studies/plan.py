@@ -121,17 +121,13 @@ def plan_study(study: Study, store: str | Path, *, retry_failed: bool = False) -
     base_keys = np.empty(study.shape, dtype=object)
     tasks: dict[str, dict[str, Any]] = {}
     bad: dict[str, str] = {}
-    factors: dict[tuple[str, float], float] = {}  # (record, im_level) -> scale factor
     builder = _TaskBuilder(study)
     for index in itertools.product(*(range(n) for n in study.shape)):
         combo = {name: study.axes[name][i] for name, i in zip(names, index, strict=True)}
         record: Record = combo.pop("record")
         scale = combo.get("scale")
         if "im_level" in combo and record.motion is not None:
-            level = combo["im_level"]
-            if (record.name, level) not in factors:
-                factors[record.name, level] = study.scale_factor(record, level)
-            scale = factors[record.name, level]
+            scale = study.scale_factor(record, combo["im_level"])
         label = _label({**combo, "record": record})
         for baseline in (False, True):
             sub = dict(combo)

@@ -346,7 +346,6 @@ def run_hunt(
     scheduler: Any = None,
     progress: ProgressCallback | None = None,
     retry_failed: bool = False,
-    on_round: Callable[[int, int], None] | None = None,
 ) -> xr.Dataset:
     """Trace every record of an IDA by hunt-and-fill (:mod:`pounding.studies.hunt`), resumably.
 
@@ -354,8 +353,7 @@ def run_hunt(
     local processes or a dask cluster as in :func:`run_study`; each run is stored as it finishes.
     A rerun replays the stored runs without running them again (the levels follow from the
     results) and goes on where the study stopped. ``progress(done, total, failed)`` counts runs
-    against the budget still open (``max_runs`` per unfinished trace); ``on_round(round, runs)``
-    is called before each round. Returns :func:`pounding.studies.dataset.assemble_hunt`'s Dataset.
+    against the budget still open (``max_runs`` per unfinished trace). Returns :func:`pounding.studies.dataset.assemble_hunt`'s Dataset.
     """
     import itertools
 
@@ -383,9 +381,8 @@ def run_hunt(
             )
     need = builder.history_dt is not None
     errors: dict[str, str] = {}
-    ran: set[str] = set()  # keys run by this call: never run twice, even with retry_failed
+    ran: dict[str, bool] = {}  # keys run by this call (never twice) -> limit state reached
     done = failed = 0
-    round_no = 0
     keep: dict[str, Any] = {}  # one worker pool for every round
     try:
         while True:
@@ -409,8 +406,10 @@ def run_hunt(
                         {**trace["combo"], "record": record, "im_level": round(level, 6)}
                     )
                     key, data = builder.key(dict(trace["combo"]), record, scale, label)
-                    retry = retry_failed and key not in ran
-                    if key in ran or _stored_ok(store, key, need_histories=need, retry=retry):
+                    if key in ran:
+                        trace["runs"].append((level, key, ran[key]))
+                        continue
+                    if _stored_ok(store, key, need_histories=need, retry=retry_failed):
                         hit = _reached(_read_record(store, key), options.limit_state)
                         trace["runs"].append((level, key, hit))
                         continue
@@ -420,16 +419,13 @@ def run_hunt(
                     break
             if not todo:
                 break
-            round_no += 1
-            if on_round:
-                on_round(round_no, len(todo))
             # the runs still possible: what is left of the budget of every unfinished trace
             total = done + sum(options.max_runs - len(t["runs"]) for t in traces if not t["done"])
 
             def on_done(result: dict, total: int = total) -> None:
                 nonlocal done, failed
                 _write_run(store, result)
-                ran.add(result["record"]["key"])
+                ran[result["record"]["key"]] = _reached(result["record"], options.limit_state)
                 done += 1
                 failed += result["record"]["status"] != "ok"
                 if progress:
@@ -444,8 +440,7 @@ def run_hunt(
                 tasks = list(todo.values())
                 _execute_all(tasks, jobs, scheduler, on_done, keep)
                 for trace, level, key in waiting:
-                    hit = _reached(_read_record(store, key), options.limit_state)
-                    trace["runs"].append((level, key, hit))
+                    trace["runs"].append((level, key, ran[key]))
     finally:
         if "pool" in keep:
             keep.pop("pool").shutdown(wait=True)
@@ -453,8 +448,10 @@ def run_hunt(
     shape = (*(len(study.axes[n]) for n in names), len(records), options.max_runs)
     keys = np.full(shape, "", dtype=object)
     levels = np.full(shape, np.nan)
+    hits = np.zeros(shape, dtype=bool)
     for trace in traces:
-        for j, (level, key, _) in enumerate(trace["runs"]):
+        for j, (level, key, hit) in enumerate(trace["runs"]):
             keys[(*trace["index"], j)] = key
             levels[(*trace["index"], j)] = level
-    return assemble_hunt(study, store, keys, levels, errors)
+            hits[(*trace["index"], j)] = hit
+    return assemble_hunt(study, store, keys, levels, hits, errors)

@@ -125,7 +125,21 @@ class Study:
         if self.scaling == "set":
             normal, median = self._set_statistics
             return normal[record.name] * level * G / median
-        return self.im.scale_factor(record.motion, level * G)  # type: ignore[arg-type]
+        value = self.record_intensity(record)
+        if not value > 0.0:  # the measure's own error, naming the record
+            return self.im.scale_factor(record.motion, level * G)  # type: ignore[arg-type]
+        return level * G / value
+
+    def record_intensity(self, record: Record) -> float:
+        """The record's :attr:`im` as read [m/s²], computed once per record (a response spectrum
+        each: scaling a record to many levels must not recompute it)."""
+        return self._intensities[record.name]
+
+    @functools.cached_property
+    def _intensities(self) -> dict[str, float]:
+        assert self.im is not None
+        im = self.im
+        return {r.name: im.of(r.motion) for r in self.axes["record"] if r.motion is not None}
 
     def normalisation(self, record: Record) -> float:
         """FEMA P695's NM_i = median(PGV)/PGV_i of a record (1 when records are scaled one by
@@ -142,7 +156,7 @@ class Study:
         pgv = {r.name: float(np.max(np.abs(ground_velocity(r.motion)))) for r in recs}
         median_pgv = float(np.median(list(pgv.values())))
         normal = {name: median_pgv / v for name, v in pgv.items()}
-        median = float(np.median([normal[r.name] * self.im.of(r.motion) for r in recs]))
+        median = float(np.median([normal[r.name] * self.record_intensity(r) for r in recs]))
         return normal, median
 
     @property
