@@ -49,6 +49,7 @@ _LAZY = {
     "Contact": "pounding.system",
     "Link": "pounding.system",
     "LINK_LAWS": "pounding.links",
+    "SoilFoundation": "pounding.soil",
     "Stories": "pounding.stories",
     "STORY_MODELS": "pounding.stories",
     "PoundingSystem": "pounding.system",
@@ -73,6 +74,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs (not report and separation: impo
     from pounding.links import LINK_LAWS
     from pounding.results import open_result, save
     from pounding.simulate import AnalysisOptions, simulate
+    from pounding.soil import SoilFoundation
     from pounding.stories import STORY_MODELS, Stories
     from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
     from pounding.studies import (
@@ -124,6 +126,7 @@ __all__ = [
     "LINK_LAWS",
     "Link",
     "STORY_MODELS",
+    "SoilFoundation",
     "Stories",
     "IntegrationError",
     "PoundingError",

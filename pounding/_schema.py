@@ -160,6 +160,27 @@ ATTRS: dict[str, dict[str, str]] = {
         "units": "m",
         "long_name": "peak absolute base slab (bearing) displacement",
     },
+    "foundation_sway": {
+        "units": "m",
+        "long_name": "foundation sway u_0 on the soil, relative to the ground",
+    },
+    "foundation_rocking": {
+        "units": "rad",
+        "long_name": "foundation rocking rotation θ on the soil",
+    },
+    "peak_foundation_sway": {"units": "m", "long_name": "peak absolute foundation sway"},
+    "peak_foundation_rocking": {
+        "units": "rad",
+        "long_name": "peak absolute foundation rocking rotation",
+    },
+    "soil_sway_stiffness": {"units": "N/m", "long_name": "soil sway spring K_x"},
+    "soil_rocking_stiffness": {"units": "N m/rad", "long_name": "soil rocking spring K_θ"},
+    "soil_sway_damping": {"units": "N s/m", "long_name": "soil sway dashpot C_x"},
+    "soil_rocking_damping": {"units": "N m s/rad", "long_name": "soil rocking dashpot C_θ"},
+    "flexible_base_period": {
+        "units": "s",
+        "long_name": "fundamental period on the soil springs (NaN: fixed base)",
+    },
 }
 # The separation check's variables (pounding.separation) and the study Dataset's per-record and
 # per-run variables (pounding.studies): one vocabulary for every Dataset the package writes.
@@ -350,8 +371,7 @@ def result_variables(
         return _padded([arr[..., s] for s in slices], width, arr.shape[:-1])
 
     u = per_building(raw.displacement)
-    below = np.where(system.below >= 0, raw.displacement[:, np.maximum(system.below, 0)], 0.0)
-    drift = per_building(raw.displacement - below)
+    drift = per_building(system.drift(raw.displacement))
     heights = _padded([b.heights for b in bl], width)
     a_abs = per_building(raw.acceleration + raw.ground_acceleration[:, None] * system.influence)
 
@@ -369,6 +389,7 @@ def result_variables(
     group = [system.contacts[g] for g in el.group]
     d: dict[str, tuple] = {
         **_isolation_variables(system, raw),
+        **_foundation_variables(system, raw),
         **_link_variables(system, raw),
         **_story_variables(system, raw, drift, per_building(raw.peak_drift)),
     }
@@ -646,6 +667,37 @@ def _isolation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tu
     return out
 
 
+def _foundation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tuple]:
+    """Sway and rocking of the buildings on soil (NaN for the others); none without any."""
+    if not system.flexible_base:
+        return {}
+    bl = system.buildings
+    nt = raw.time.size
+    on = np.flatnonzero(system.soil_dof[:, 0] >= 0)
+    out = {}
+    for k, name in enumerate(("foundation_sway", "foundation_rocking")):
+        dof = system.soil_dof[on, k]
+        values = np.full((nt, len(bl)), np.nan)
+        values[:, on] = raw.displacement[:, dof]
+        out[name] = (("time", "building"), values)
+        peak = np.full(len(bl), np.nan)
+        peak[on] = np.asarray(raw.peak_displacement)[dof]
+        out[f"peak_{name}"] = (("building",), peak)
+    soil = [b.soil for b in bl]
+    nan = (np.nan, np.nan)
+    springs = np.array([s.springs if s else nan for s in soil])
+    dashpots = np.array([s.dashpot_coefficients if s else nan for s in soil])
+    out["soil_sway_stiffness"] = (("building",), springs[:, 0])
+    out["soil_rocking_stiffness"] = (("building",), springs[:, 1])
+    out["soil_sway_damping"] = (("building",), dashpots[:, 0])
+    out["soil_rocking_damping"] = (("building",), dashpots[:, 1])
+    period = np.full(len(bl), np.nan)
+    for i in on:
+        period[i] = system.building_periods(int(i))[0]
+    out["flexible_base_period"] = (("building",), period)
+    return out
+
+
 def _collapse_times(
     raw: RawResult, ratio: np.ndarray, peak_ratio: np.ndarray, can: np.ndarray
 ) -> np.ndarray:
@@ -780,6 +832,10 @@ def summary(variables: Mapping[str, tuple[tuple[str, ...], Any, Any]], attrs: Ma
             base = float(val("peak_base_displacement")[i])
             if math.isfinite(base):
                 entry["peak_base_displacement"] = base
+        if "peak_foundation_sway" in variables and math.isfinite(val("peak_foundation_sway")[i]):
+            entry["flexible_base_period"] = float(val("flexible_base_period")[i])
+            entry["peak_foundation_sway"] = float(val("peak_foundation_sway")[i])
+            entry["peak_foundation_rocking"] = float(val("peak_foundation_rocking")[i])
         collapse = float(val("collapse_time")[i]) if "collapse_time" in variables else math.nan
         if math.isfinite(collapse):
             entry["collapse_time"] = collapse

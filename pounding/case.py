@@ -18,6 +18,7 @@ from pounding.contact.calibrate import CALIBRATIONS
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import ANALYTIC_MOTIONS, GroundMotion, analytic
 from pounding.simulate import ANALYSIS_KEYS, OUTPUT_KEYS, AnalysisOptions
+from pounding.soil import SoilFoundation
 from pounding.stories import STORY_MODELS, Stories
 from pounding.structure import IsolationBase, ModalDamping, RayleighDamping, ShearBuilding
 from pounding.system import Contact, Link, PoundingSystem, assemble
@@ -96,7 +97,31 @@ _BUILDING_KEYS = (
         "(README, yielding stories)",
     ),
     Key("p_delta", "bool", "add the P-Δ geometric stiffness of the floors' gravity loads"),
+    Key(
+        "soil",
+        "any",
+        "a table: flexible base { shear_wave_velocity, density, poisson, radius or width and "
+        "length, mass, ... } (README, soil flexibility)",
+    ),
 )
+_SOIL_KEYS = (
+    Key("shear_wave_velocity", "number", "shear-wave velocity V_s of the soil", unit="m/s",
+        low=0.0, high=1e4, open_low=True, required=True),
+    Key("density", "number", "soil mass density (typical 1600-2200)", unit="kg/m^3", low=0.0,
+        high=1e4, open_low=True, required=True),
+    Key("poisson", "number", "soil Poisson ratio", low=0.0, high=0.5, required=True),
+    Key("radius", "number", "radius of a circular footing (or width and length)", unit="m",
+        low=0.0, high=1e4, open_low=True),
+    Key("width", "number", "footing plan across the row (with length)", unit="m", low=0.0,
+        high=1e4, open_low=True),
+    Key("length", "number", "footing plan along the row, the direction of shaking", unit="m",
+        low=0.0, high=1e4, open_low=True),
+    Key("mass", "number", "mass of the foundation slab", unit="kg", low=0.0, high=1e12,
+        open_low=True, required=True),
+    Key("inertia", "number", "rotational inertia of the foundation (default: a thin slab's)",
+        unit="kg m^2", low=0.0, high=1e18, open_low=True),
+    Key("dashpots", "bool", "radiation dashpots C_x, C_θ (default true)"),
+)  # fmt: skip
 _DAMPING_KEYS = (
     Key("ratio", "number", "Rayleigh damping ratio at both modes", low=0.0, high=1.0),
     Key("modes", "integers", "the two modes of the Rayleigh ratio", low=1, high=MAX_FLOORS),
@@ -269,6 +294,7 @@ _TOP_KEYS = (
 CASE_SCHEMA = {
     "[[building]]": _BUILDING_KEYS,
     "[[building]] damping": _DAMPING_KEYS,
+    "[[building]] soil": _SOIL_KEYS,
     "[[contact]]": _CONTACT_KEYS,
     "[[link]]": _LINK_KEYS,
     "[ground_motion] (analytic)": _ANALYTIC_KEYS,
@@ -355,6 +381,23 @@ def _base(spec: Any, where: str) -> IsolationBase | None:
         raise CaseError(f"{where}.base: {message}") from None
 
 
+def _soil(spec: Any, where: str) -> SoilFoundation | None:
+    """The ``soil = { shear_wave_velocity = ..., density = ..., ... }`` table of a building."""
+    if spec is None:
+        return None
+    example = (
+        "{ shear_wave_velocity = 150, density = 1800, poisson = 0.35, width = 20, length = 20, "
+        "mass = 8e5 }"
+    )
+    if not isinstance(spec, Mapping):
+        raise CaseError(f"{where}.soil must be a table, e.g. {example}")
+    table = _checked(spec, _SOIL_KEYS, f"{where}.soil")
+    try:
+        return SoilFoundation(**table)
+    except PoundingInputError as exc:
+        raise CaseError(f"{where}.{exc}") from None
+
+
 def _stories(spec: Any, where: str) -> Stories:
     """The ``stories = { model = "bilinear", yield_drift = 0.005, hardening = 0.03 }`` table."""
     if spec is None:
@@ -378,6 +421,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
     spec = _checked(spec, _BUILDING_KEYS, where)
     damping = _damping(spec.get("damping"), where)
     base = _base(spec.get("base"), where)
+    soil = _soil(spec.get("soil"), where)
     stories = _stories(spec.get("stories"), where)
     uniform = [k for k in ("n_floors", "period", "mass") if k in spec]
     if uniform:
@@ -397,6 +441,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
             base=base,
             stories=stories,
             p_delta=spec.get("p_delta", False),
+            soil=soil,
         )
     for key in ("masses", "stiffnesses"):
         if key not in spec:
@@ -416,6 +461,7 @@ def _building(spec: Mapping[str, Any], where: str) -> ShearBuilding:
         base=base,
         stories=stories,
         p_delta=spec.get("p_delta", False),
+        soil=soil,
     )
 
 

@@ -230,6 +230,16 @@ def _print_summary(result: Any, path: str | None) -> None:
                 else "flat sliders: no restoring stiffness, no isolated period"
             )
             typer.echo(f"  {name}: peak base (bearing) displacement {base:.4g} m; {period}")
+    heights = dict(zip(variables["building"][1], variables["floor_elevation"][1], strict=True))
+    for name, b in s["buildings"].items():
+        if "peak_foundation_sway" in b:  # buildings on soil only
+            roof = float(np.nanmax(heights[name])) * b["peak_foundation_rocking"]
+            typer.echo(
+                f"  {name}: on soil, period {b['flexible_base_period']:.3f} s (fixed base "
+                f"{b['T1']:.3f} s); peak foundation sway {b['peak_foundation_sway'] * 1e3:.3g} mm, "
+                f"rocking {b['peak_foundation_rocking'] * 1e3:.3g} mrad ({roof * 1e3:.3g} mm at "
+                "the roof)"
+            )
     for name, b in s["buildings"].items():
         if "peak_story_ductility" in b:  # yielding stories only
             damage = b.get("max_park_ang_damage")

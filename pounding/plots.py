@@ -170,6 +170,17 @@ def isolated_buildings(ds: xr.Dataset) -> list[str]:
     ]
 
 
+def soil_buildings(ds: xr.Dataset) -> list[str]:
+    """Buildings on a flexible base (soil springs) whose foundation response is in the Dataset."""
+    if "foundation_sway" not in ds:
+        return []
+    return [
+        name
+        for name in _buildings(ds)
+        if np.isfinite(ds["foundation_sway"].sel(building=name).values).any()
+    ]
+
+
 def _floor_history(ds: xr.Dataset, building: str, floor: int) -> xr.DataArray:
     """Displacement history of a floor; floor 0 is the base slab of an isolated building."""
     if floor == 0:
@@ -569,6 +580,31 @@ def base_displacements(ds: xr.Dataset) -> Figure:
         ax.set_title(_bearing_title(ds, name) + " (▼ impact)", fontsize="small", loc="left")
         ax.set_ylabel(label(ub, "base displacement"))
         ax.legend(fontsize="x-small", ncol=3, loc="upper right")
+    axes[-1, 0].set_xlabel(label(ds["time"]))
+    return fig
+
+
+def foundation_motion(ds: xr.Dataset) -> Figure:
+    """Roof displacement of every building on soil split into the foundation's sway u_0, its
+    rocking H θ at the roof, and the stories' deformation, over time."""
+    names = soil_buildings(ds)
+    fig, axes = _figure(1.4 + 1.9 * max(1, len(names)), nrows=max(1, len(names)), sharex=True)
+    t = ds["time"].values
+    for ax, name in zip(axes[:, 0], names, strict=False):
+        sel = ds.sel(building=name)
+        roof = int(np.flatnonzero(np.isfinite(sel["floor_elevation"].values))[-1])
+        height = float(sel["floor_elevation"].values[roof])
+        total = sel["displacement"].isel(floor=roof).values
+        sway = sel["foundation_sway"].values
+        rocking = height * sel["foundation_rocking"].values
+        ax.plot(t, total, lw=0.9, color="k", label="roof (total)")
+        ax.plot(t, sway, lw=0.8, color="C0", label="foundation sway u₀")
+        ax.plot(t, rocking, lw=0.8, color="C1", label=f"rocking H θ (H = {height:.3g} m)")
+        ax.plot(t, total - sway - rocking, lw=0.8, color="C2", label="story deformations")
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_title(plain_text(f"building {name} on soil"), fontsize="small", loc="left")
+        ax.set_ylabel("displacement [m]")
+        ax.legend(fontsize="x-small", ncol=2, loc="upper right")
     axes[-1, 0].set_xlabel(label(ds["time"]))
     return fig
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from pounding import friction as _friction
 from pounding.errors import PoundingInputError
+from pounding.soil import SoilFoundation
 from pounding.stories import Stories
 from pounding.units import G
 
@@ -350,6 +351,15 @@ class ShearBuilding:
         The base slab is not a floor: floors stay numbered 1..n, and :meth:`mass_matrix`,
         :meth:`stiffness_matrix`, :meth:`damping_matrix` and :meth:`modal` describe the
         superstructure on a fixed base (the building while the bearings stick).
+    stories : Stories
+        Story model (default elastic).
+    p_delta : bool
+        Add the P-Δ geometric stiffness of the floors' gravity loads (default False).
+    soil : SoilFoundation, optional
+        A flexible base: the building's foundation sways and rocks on soil springs and dashpots
+        (:mod:`pounding.soil`); None (default) for a fixed base. As with ``base``, the building's
+        own matrices and modes stay the fixed-base ones; :mod:`pounding.system` adds the sway and
+        rocking degrees of freedom.
 
     Notes
     -----
@@ -371,6 +381,7 @@ class ShearBuilding:
     base: IsolationBase | None = None
     stories: Stories = Stories()
     p_delta: bool = False
+    soil: SoilFoundation | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
@@ -404,6 +415,15 @@ class ShearBuilding:
             raise PoundingInputError(
                 f"{where}: base = {self.base!r}; allowed: an IsolationBase or None"
             )
+        if self.soil is not None and not isinstance(self.soil, SoilFoundation):
+            raise PoundingInputError(
+                f"{where}: soil = {self.soil!r}; allowed: a SoilFoundation or None"
+            )
+        if self.soil is not None and self.base is not None:
+            raise PoundingInputError(
+                f"{where}: soil and base (isolation bearings) together are not supported; give "
+                "one of them"
+            )
         if self.stories is None:
             object.__setattr__(self, "stories", Stories())
         if not isinstance(self.stories, Stories):
@@ -418,6 +438,11 @@ class ShearBuilding:
             raise PoundingInputError(
                 f"{where}: story {i + 1} is unstable under its own gravity load with p_delta: "
                 f"θ = P/(k h) = {theta[i]:.3g} ≥ 1; stiffen it or lighten the floors above"
+            )
+        if self.soil is not None and self.stories.yielding:
+            raise PoundingInputError(
+                f"{where}: yielding stories ({self.stories.model!r}) on a flexible base (soil) are "
+                "not supported yet; allowed with soil: elastic stories (with or without p_delta)"
             )
         if self.stories.yielding:  # per-story parameters checked now, before any analysis
             self.story_parameters()
@@ -468,6 +493,11 @@ class ShearBuilding:
         """True when the building can lose lateral strength (yielding stories or P-Δ): only then
         does a drift beyond ``[analysis] collapse_drift`` count as collapse."""
         return self.stories.yielding or self.p_delta
+
+    @property
+    def flexible_base(self) -> bool:
+        """True when the building stands on a :class:`~pounding.soil.SoilFoundation`."""
+        return self.soil is not None
 
     @property
     def isolated(self) -> bool:
@@ -594,6 +624,7 @@ class ShearBuilding:
         base: IsolationBase | None = None,
         stories: Stories | None = None,
         p_delta: bool = False,
+        soil: SoilFoundation | None = None,
     ) -> ShearBuilding:
         """A building with equal floor masses and equal story stiffnesses.
 
@@ -624,6 +655,8 @@ class ShearBuilding:
             Story model (default elastic).
         p_delta : bool
             Add the P-Δ geometric stiffness (default False).
+        soil : SoilFoundation, optional
+            Flexible base (the period is the fixed-base one).
         """
         where = f"building {name!r}"
         if isinstance(n_floors, bool) or not isinstance(n_floors, int | np.integer) or n_floors < 1:
@@ -640,7 +673,7 @@ class ShearBuilding:
         n = int(n_floors)
         return cls(
             name, np.full(n, mass), np.full(n, k), np.full(n, height), damping, base,
-            stories or Stories(), p_delta,
+            stories or Stories(), p_delta, soil,
         )  # fmt: skip
 
 

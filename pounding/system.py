@@ -29,6 +29,22 @@ The friction force f of the bearings acts on the base dof, f with the sign of u�
 sliding): :math:`M\ddot u + C\dot u + K u + B^T F + E f(\dot u_b) = -M\iota a_g` with E the
 columns e_b (:class:`FrictionElements`). A contact may end at a base slab: floor 0 in a contact's
 ``floors`` (a moat wall, or an explicit pair between neighbours).
+
+**Flexible base.** A building on a :class:`~pounding.soil.SoilFoundation` gets two more degrees of
+freedom just before its floors, the foundation's sway u_0 (relative to the ground, the building's
+``dof(building, 0)`` is not it: floor 0 stays the base slab of isolation) and its rocking θ [rad].
+Floor displacements stay relative to the ground, x_i = u_0 + H_i θ + (story deformations), so the
+contacts, links and the mass matrix are as on a fixed base; the superstructure's K and C act on the
+story deformations x_i − x_(i−1) − h_i θ (x_0 = u_0): with T_e mapping [u_0, θ, x_1..x_n] to
+[x_i − u_0 − H_i θ] and T_g to [x_i − u_0] (the total tilt, on which gravity acts),
+
+.. math:: K_{ext} = T_e^T K T_e + T_g^T K_G T_g + K_x e_0 e_0^T + K_\theta e_\theta e_\theta^T,
+          \qquad C_{ext} = T_e^T C T_e + C_x e_0 e_0^T + C_\theta e_\theta e_\theta^T,
+          \qquad M_{ext} = \mathrm{diag}(m_0, I_0, m_1, \dots, m_n)
+
+(K_G: the P-Δ geometric stiffness with ``p_delta``, which then also reduces the rocking stiffness by
+Σ m_i g H_i). ι is 1 on u_0 and the floors, 0 on θ. The story drift of floor i is
+x_i − x_(i−1) − h_i θ: ``below`` and ``tilt``/``tilt_height`` (:meth:`PoundingSystem.drift`).
 """
 
 from __future__ import annotations
@@ -404,6 +420,20 @@ class PoundingSystem:
     links: LinkElements = dataclasses.field(default_factory=LinkElements.empty)
     link_specs: tuple[Link, ...] = ()
     stories: StoryElements = dataclasses.field(default_factory=StoryElements.empty)
+    #: per building, the foundation's sway and rocking dofs (−1, −1 on a fixed or isolated base)
+    soil_dof: np.ndarray | None = None
+    #: per dof, the rocking dof that tilts its story (−1 if none) and the story height it tilts
+    tilt: np.ndarray | None = None
+    tilt_height: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        n, nb = self.n_dof, len(self.buildings)
+        if self.soil_dof is None:
+            object.__setattr__(self, "soil_dof", np.full((nb, 2), -1, dtype=np.int64))
+        if self.tilt is None:
+            object.__setattr__(self, "tilt", np.full(n, -1, dtype=np.int64))
+        if self.tilt_height is None:
+            object.__setattr__(self, "tilt_height", np.zeros(n))
 
     @property
     def n_dof(self) -> int:
@@ -430,6 +460,18 @@ class PoundingSystem:
             )
         return int(self.dof_offset[building]) + floor - 1
 
+    @property
+    def flexible_base(self) -> bool:
+        """True when any building stands on soil (sway and rocking dofs)."""
+        return bool(np.any(self.soil_dof >= 0))
+
+    def drift(self, u: np.ndarray) -> np.ndarray:
+        """Story deformation [m] at each dof for displacements u (..., n_dof): u_i − u_below, less
+        h_i θ on a rocking foundation (rigid-body rotation deforms no story)."""
+        below = np.where(self.below >= 0, u[..., np.maximum(self.below, 0)], 0.0)
+        tilt = np.where(self.tilt >= 0, u[..., np.maximum(self.tilt, 0)], 0.0)
+        return u - below - self.tilt_height * tilt
+
     def penetration(self, u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """δ [m] and δ̇ [m/s] of every gap element for displacements u and velocities v (..., n_dof)."""
         el = self.elements
@@ -444,19 +486,32 @@ class PoundingSystem:
         """Shortest natural period of any building [s] (contacts open).
 
         An isolated building counts both with its bearings stuck (the fixed-base superstructure) and
-        sliding (the free base slab on the superstructure, a shorter period when the slab is light).
+        sliding (the free base slab on the superstructure, a shorter period when the slab is light);
+        a building on soil with its foundation's sway and rocking.
         """
         periods = [float(b.modal().periods.min()) for b in self.buildings]
-        for i in np.flatnonzero(self.base_dof >= 0):
-            lo = int(self.base_dof[i])
-            hi = lo + 1 + self.buildings[i].n_floors
-            k = self.stiffness[lo:hi, lo:hi]
-            m = np.diag(self.mass)[lo:hi]
-            # the largest eigenvalue of M^-1/2 K M^-1/2 (K may be singular on a flat slider)
-            s = 1.0 / np.sqrt(m)
-            w2 = float(np.linalg.eigvalsh(s[:, None] * k * s[None, :]).max())
-            periods.append(2.0 * math.pi / math.sqrt(w2))
+        for i, b in enumerate(self.buildings):
+            if b.isolated or b.flexible_base:
+                periods.append(float(self.building_periods(i).min()))
         return min(periods)
+
+    def building_dofs(self, building: int) -> slice:
+        """The consecutive dofs of a building: [base slab | sway, rocking] and its floors."""
+        b = self.buildings[building]
+        hi = int(self.dof_offset[building]) + b.n_floors
+        return slice(hi - b.n_floors - (1 if b.isolated else 0) - (2 if b.flexible_base else 0), hi)
+
+    def building_periods(self, building: int) -> np.ndarray:
+        """Undamped periods [s] of a building with its base dofs (contacts and links open),
+        longest first: on soil, the flexible-base periods; on isolation bearings, with the slab
+        free (a flat slider's rigid-body mode is infinite)."""
+        s_ = self.building_dofs(building)
+        k = self.stiffness[s_, s_]
+        s = 1.0 / np.sqrt(np.diag(self.mass)[s_])
+        # M is diagonal: the eigenvalues of M^-1/2 K M^-1/2 (K may be singular on a flat slider)
+        w2 = np.linalg.eigvalsh(s[:, None] * k * s[None, :])
+        with np.errstate(divide="ignore"):
+            return 2.0 * math.pi / np.sqrt(np.maximum(w2, 0.0))
 
 
 def _block_diag(blocks: Sequence[np.ndarray]) -> np.ndarray:
@@ -568,13 +623,22 @@ def assemble(
     if WALL in names:
         raise PoundingInputError(f"{WALL!r} is reserved for rigid walls and cannot name a building")
     index = {n: i for i, n in enumerate(names)}
-    # each building: [base slab if isolated] + floors; offsets = dof of floor 1
-    sizes = [b.n_floors + (1 if b.isolated else 0) for b in buildings]
+    # each building: [base slab if isolated | sway, rocking on soil] + floors; offsets = dof of
+    # floor 1
+    extra = [(1 if b.isolated else 0) + (2 if b.flexible_base else 0) for b in buildings]
+    sizes = [b.n_floors + x for b, x in zip(buildings, extra, strict=True)]
     starts = np.concatenate(([0], np.cumsum(sizes)[:-1])).astype(np.int64)
     base_dof = np.array(
         [s if b.isolated else -1 for b, s in zip(buildings, starts, strict=True)], dtype=np.int64
     )
-    offsets = starts + (base_dof >= 0)
+    soil_dof = np.array(
+        [
+            (s, s + 1) if b.flexible_base else (-1, -1)
+            for b, s in zip(buildings, starts, strict=True)
+        ],
+        dtype=np.int64,
+    ).reshape(len(buildings), 2)
+    offsets = starts + np.array(extra, dtype=np.int64)
 
     rows: list[dict[str, Any]] = []
     for g, contact in enumerate(contacts):
@@ -654,16 +718,24 @@ def assemble(
         law=tuple(r["law"] for r in rows),
         group=np.array([r["group"] for r in rows], dtype=np.int64),
     )
-    # dof below each dof: the floor below, the base slab under floor 1 of an isolated building,
-    # -1 (the ground) for a base slab and for floor 1 of a fixed-base building
-    below = np.concatenate(
-        [
-            np.concatenate(([-1, s], o + np.arange(b.n_floors - 1)))
-            if b.isolated
-            else np.concatenate(([-1], o + np.arange(b.n_floors - 1)))
-            for b, s, o in zip(buildings, starts, offsets, strict=True)
-        ]
-    ).astype(np.int64)
+    # dof below each dof: the floor below, the base slab (or the sway dof) under floor 1, -1 (the
+    # ground) for a base slab, a foundation's dofs and floor 1 of a fixed-base building; a rocking
+    # foundation tilts each of its stories by h_i θ
+    below, tilt, tilt_height, influence = [], [], [], []
+    for b, s, o in zip(buildings, starts, offsets, strict=True):
+        floors_below = o + np.arange(b.n_floors - 1)
+        n = b.n_floors
+        if b.isolated:
+            below.append(np.concatenate(([-1, s], floors_below)))
+        elif b.flexible_base:
+            below.append(np.concatenate(([-1, -1, s], floors_below)))
+        else:
+            below.append(np.concatenate(([-1], floors_below)))
+        lead = o - s
+        rocks = b.flexible_base
+        tilt.append(np.concatenate((np.full(lead, -1), np.full(n, s + 1 if rocks else -1))))
+        tilt_height.append(np.concatenate((np.zeros(lead), b.heights if rocks else np.zeros(n))))
+        influence.append(np.concatenate(([1.0, 0.0] if rocks else np.ones(lead), np.ones(n))))
     blocks = [building_matrices(b) for b in buildings]
     return PoundingSystem(
         buildings=buildings,
@@ -672,17 +744,23 @@ def assemble(
         mass=_block_diag([m for m, _, _ in blocks]),
         damping=_block_diag([c for _, c, _ in blocks]),
         stiffness=_block_diag([k for _, _, k in blocks]),
-        influence=np.ones(int(sum(sizes))),
+        influence=np.concatenate(influence),
         dof_offset=offsets,
-        below=below,
+        below=np.concatenate(below).astype(np.int64),
         story_height=np.concatenate(
-            [np.concatenate(([0.0], b.heights)) if b.isolated else b.heights for b in buildings]
+            [
+                np.concatenate((np.zeros(x), b.heights))
+                for b, x in zip(buildings, extra, strict=True)
+            ]
         ),
         base_dof=base_dof,
         friction=_friction_elements(buildings, base_dof),
         links=_link_elements(links, buildings, index, offsets),
         link_specs=tuple(links),
-        stories=_story_elements(buildings, offsets, below),
+        stories=_story_elements(buildings, offsets, np.concatenate(below).astype(np.int64)),
+        soil_dof=soil_dof,
+        tilt=np.concatenate(tilt).astype(np.int64),
+        tilt_height=np.concatenate(tilt_height),
     )
 
 
@@ -779,7 +857,8 @@ def _point_mass(building: ShearBuilding | None, floor: int) -> float:
 
 
 def building_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M, C, K of one building in the system's dofs ([u_b, u_1..u_n] when isolated; module docstring);
+    """M, C, K of one building in the system's dofs ([u_b, u_1..u_n] when isolated, [u_0, θ,
+    u_1..u_n] on soil; module docstring);
     K includes the P-Δ geometric stiffness of a building with ``p_delta``.
 
     A fixed-base building's own matrices; an isolated one's K_ext = Tᵀ K T (+ W/R at the base for a
@@ -787,6 +866,8 @@ def building_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, 
     """
     m, c = building.mass_matrix(), building.damping_matrix()
     k = building.stiffness_matrix() + building.geometric_stiffness_matrix()
+    if building.soil is not None:
+        return _flexible_base_matrices(building)
     base = building.base
     if base is None:
         return m, c, k
@@ -798,6 +879,27 @@ def building_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, 
         k_ext[0, 0] += building.weight / base.radius
     m_ext = np.diag(np.concatenate(([base.mass], building.masses)))
     return m_ext, 0.5 * (c_ext + c_ext.T), 0.5 * (k_ext + k_ext.T)
+
+
+def _flexible_base_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M, C, K of a building on soil in the dofs [u_0, θ, x_1..x_n] (module docstring)."""
+    soil = building.soil
+    assert soil is not None
+    n = building.n_floors
+    t_g = np.hstack((-np.ones((n, 1)), np.zeros((n, 1)), np.eye(n)))  # x_i − u_0
+    t_e = t_g.copy()
+    t_e[:, 1] = -building.elevations  # x_i − u_0 − H_i θ: the deformation of the stories
+    k = t_e.T @ building.stiffness_matrix() @ t_e
+    k += t_g.T @ building.geometric_stiffness_matrix() @ t_g
+    c = t_e.T @ building.damping_matrix() @ t_e
+    k_x, k_t = soil.springs
+    c_x, c_t = soil.dashpot_coefficients
+    k[0, 0] += k_x
+    k[1, 1] += k_t
+    c[0, 0] += c_x
+    c[1, 1] += c_t
+    m = np.diag(np.concatenate(([soil.mass, soil.rotational_inertia], building.masses)))
+    return m, 0.5 * (c + c.T), 0.5 * (k + k.T)
 
 
 def _friction_elements(

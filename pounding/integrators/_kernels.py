@@ -126,8 +126,8 @@ def _prepare(sy, sch, gaps, fr, el, h):
     dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
     # diagonal-major copies for the quadratic forms of the energy ledger
     md = Model(sy.M, sy.C, sy.K, Mi, L_m, D_m, Mb, Cb, Kb, _transpose(Mb), _transpose(Cb),
-               _transpose(Kb), bw, dense, sy.iota, sy.below, sy.ag, sy.ag_dt, sy.x_dof,
-               sy.x_sign)  # fmt: skip
+               _transpose(Kb), bw, dense, sy.iota, sy.below, sy.tilt, sy.tilt_h, sy.ag, sy.ag_dt,
+               sy.x_dof, sy.x_sign)  # fmt: skip
     if dense:
         Q, pg = dense_map(h, sy.M, sy.C, sy.K, Mi, sch)
     else:

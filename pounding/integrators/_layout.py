@@ -58,10 +58,12 @@ N_EN = EN_ELEMENTS + N_FAMILIES
 Scheme = namedtuple("Scheme", "gamma beta alpha")
 #: The structure and its excitation: full and band matrices (M, C, K), M ι, the band LDLᵀ factors
 #: of M, the influence
-#: vector, the dof below each dof (−1 at a base), the ground record and its step, the rows of every
+#: vector, the dof below each dof (−1 at a base), the rocking dof tilting each dof's story (−1 if
+#: none) and the story height it tilts, the ground record and its step, the rows of every
 #: nonlinear element (gaps, then friction, then element families) for the Woodbury update.
 Model = namedtuple(
-    "Model", "M C K Mi Lm Dm Mb Cb Kb MbT CbT KbT bw dense iota below ag ag_dt x_dof x_sign"
+    "Model",
+    "M C K Mi Lm Dm Mb Cb Kb MbT CbT KbT bw dense iota below tilt tilt_h ag ag_dt x_dof x_sign",
 )
 #: Gap elements: dofs and signs, gap [m], law id, parameters, undamped contact duration
 #: t_c = tc_coef v0^tc_exp, and their per-element state (in contact, v0 [m/s], δ and force at the
@@ -78,8 +80,9 @@ Elements = namedtuple("Elements", "kind law dof sign params state trial d0 f0 d1
 #: the linear step (Q, pg; zero rows when the band form is used).
 Factor = namedtuple("Factor", "h L D J_inv Z S Q pg")
 #: What the caller passes: matrices M, C, K, the influence vector, the dof below each dof (−1 at a
-#: base), the ground record and its step, and the rows of every nonlinear element.
-System = namedtuple("System", "M C K iota below ag ag_dt x_dof x_sign")
+#: base), the rocking dof and height of each dof's story, the ground record and its step, and the
+#: rows of every nonlinear element.
+System = namedtuple("System", "M C K iota below tilt tilt_h ag ag_dt x_dof x_sign")
 #: The trial end of a step: u, v, a and the gaps' δ, δ̇, force, ∂F/∂δ, ∂F/∂δ̇.
 Trial = namedtuple("Trial", "u1 v1 a1 d1 dd1 f1 kd1 cd1")
 #: Scratch arrays (never read before written within a call); Jb, Lw, Dw, e: the band tangent of a

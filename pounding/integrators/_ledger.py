@@ -227,7 +227,12 @@ def accept(g1, md, x0, tr, gaps, fr, el, out):
         if au > out.peak_u[i]:
             out.peak_u[i] = au
         below = md.below[i]
-        dr = abs(u[i] - (u[below] if below >= 0 else 0.0))
+        tilt = md.tilt[i]
+        dr = abs(
+            u[i]
+            - (u[below] if below >= 0 else 0.0)
+            - (md.tilt_h[i] * u[tilt] if tilt >= 0 else 0.0)
+        )
         if dr > out.peak_drift[i]:
             out.peak_drift[i] = dr
             if dr > out.collapse[i]:

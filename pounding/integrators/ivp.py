@@ -379,7 +379,7 @@ class _Model:
         self.stiffness = np.asarray(system.stiffness, dtype=float)
         self.damping = np.asarray(system.damping, dtype=float)
         self.iota = np.asarray(system.influence, dtype=float)
-        self.below = np.asarray(system.below, dtype=np.int64)
+        self.drift = system.drift
         self.m_iota = self.mass @ self.iota
         minv = np.linalg.inv(self.mass)
         self.a_k = np.ascontiguousarray(minv @ self.stiffness)
@@ -581,13 +581,12 @@ class _Model:
                 hysteretic,
             )
         )
-        below = np.where(self.below >= 0, u[:, np.maximum(self.below, 0)], 0.0)
         return dict(
             u=u,
             v=v,
             acc=acc,
             abs_acc=acc + np.outer(ag, self.iota),
-            drift=u - below,
+            drift=self.drift(u),
             d=d,
             dd=dd,
             force=force,

@@ -264,9 +264,9 @@ def collapse_drifts(system: PoundingSystem, limit: float) -> np.ndarray:
     that can collapse (yielding stories or P-Δ), inf elsewhere (an elastic story has no strength
     to lose; its drift beyond the ``drift_limit`` is a warning) and at a base slab."""
     h = system.story_height
-    can = np.concatenate(
-        [np.full(b.n_floors + (1 if b.isolated else 0), b.can_collapse) for b in system.buildings]
-    )
+    can = np.zeros(h.size, dtype=bool)
+    for i, b in enumerate(system.buildings):
+        can[system.building_dofs(i)] = b.can_collapse
     return np.where(can & (h > 0.0), limit * h, np.inf)
 
 
@@ -339,8 +339,9 @@ def integrate_newmark(
     x_sign = np.vstack((el.el_sign, np.column_stack((np.ones(n_fr), np.zeros(n_fr))),
                         families.sign))  # fmt: skip
     sy = kn.System(_f64(system.mass), _f64(system.damping), _f64(system.stiffness),
-                   _f64(system.influence), _i64(system.below), _f64(ground.acceleration), float(ground.dt), _i64(x_dof),
-                   _f64(x_sign))  # fmt: skip
+                   _f64(system.influence), _i64(system.below), _i64(system.tilt),
+                   _f64(system.tilt_height), _f64(ground.acceleration), float(ground.dt),
+                   _i64(x_dof), _f64(x_sign))  # fmt: skip
     opts = kn.Options(float(tol), int(max_iter), int(max_halvings), bool(locate_onset),
                       penetration_tolerance(system, ground, tol), float(floor), bool(adaptive),
                       float(steps_per_contact), float(dt))  # fmt: skip

@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import xarray as xr
 
 from pounding import plots
@@ -329,6 +330,51 @@ def _isolation_section(ds: xr.Dataset) -> Section | None:
     return iso
 
 
+def _foundation_section(ds: xr.Dataset) -> Section | None:
+    """Soil springs, flexible-base periods and the foundation's peak sway and rocking of every
+    building on soil, and how its roof displacement splits between them."""
+    names = plots.soil_buildings(ds)
+    if not names:
+        return None
+    sec = Section("Soil flexibility")
+    rows = []
+    for name in names:
+        sel = ds.sel(building=name)
+        height = float(np.nanmax(sel["floor_elevation"].values))
+        rocking = float(sel["peak_foundation_rocking"])
+        rows.append(
+            [
+                name,
+                _g(float(sel["natural_period"].values[0]), 4),
+                _g(float(sel["flexible_base_period"]), 4),
+                _g(float(sel["soil_sway_stiffness"]) / 1e6),
+                _g(float(sel["soil_rocking_stiffness"]) / 1e9),
+                _g(float(sel["peak_foundation_sway"]) * 1e3),
+                _g(rocking * 1e3),
+                _g(rocking * height * 1e3),
+            ]
+        )
+    header = ["building", "T1 fixed base [s]", "T̃1 on soil [s]", "K_x [MN/m]", "K_θ [GN m/rad]",
+              "peak sway [mm]", "peak rocking [mrad]", "rocking at roof [mm]"]  # fmt: skip
+    sec.blocks.append(
+        Table(
+            header,
+            rows,
+            "Rigid surface footing on a homogeneous half-space: static springs (Gazetas 1991) and "
+            "cone dashpots (Wolf 1994), frequency independent; the drifts in this report are the "
+            "stories' own deformation, without the rigid rocking.",
+        )
+    )
+    sec.blocks.append(
+        Plot(
+            plots.foundation_motion(ds),
+            "Roof displacement of each building on soil and its parts: foundation sway, rigid "
+            "rocking (H θ) and the stories' deformation.",
+        )
+    )
+    return sec
+
+
 def _stories_section(ds: xr.Dataset) -> Section | None:
     """Ductility, residual drift, hysteretic energy and damage of every yielding story, and the
     loops of the most ductile ones."""
@@ -397,7 +443,7 @@ def analysis_report(ds: xr.Dataset, store: Path | None = None) -> Report:
         _ground_motion_section(ds, study=False),
         _results_section(ds, contacts),
     ]
-    for extra in (_stories_section(ds), _isolation_section(ds)):
+    for extra in (_stories_section(ds), _isolation_section(ds), _foundation_section(ds)):
         if extra is not None:
             sections.append(extra)
     meta = [
