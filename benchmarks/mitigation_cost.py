@@ -1,5 +1,6 @@
-"""Per-step cost of the mitigation elements on model b: a rubber bumper or a filler in the gap, and
-coupling links, against the bare gap (issue 18's per-step benchmark).
+"""Per-step cost of the mitigation elements on model b: a rubber bumper or a filler in the gap,
+coupling links, and the 8-story building on soft soil, against the bare gap (issue 18's per-step
+benchmark).
 
 Fixed dt = 1e-4 s over the 30 s benchmark record, the median of ``--repeats`` runs after a first
 (compiling) one; the same analysis as ``yielding_cost.py``'s elastic row with the contacts changed.
@@ -8,6 +9,7 @@ Fixed dt = 1e-4 s over the 30 s benchmark record, the median of ``--repeats`` ru
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -16,13 +18,25 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import fixed_step, machine, machine_markdown, median_time, out_dirs, write_json  # noqa: E402
 from models import DURATION, build, record  # noqa: E402
 
-from pounding import Link, assemble  # noqa: E402
+from pounding import Link, SoilFoundation, assemble  # noqa: E402
 from pounding.simulate import AnalysisOptions, run  # noqa: E402
 
 
 def _linked(system, link_type: str, **params):
     links = [Link("A", "B", type=link_type, floors="common", **params)]
     return assemble(system.buildings, system.contacts, links)
+
+
+#: The soft clay of examples/soft_soil.toml under an 18 m x 18 m mat.
+SOFT_CLAY = dict(shear_wave_velocity=120.0, density=1800.0, poisson=0.4, width=18.0, length=18.0,
+                 mass=1.2e6)  # fmt: skip
+
+
+def _on_soil(system, links=()):
+    """The same row with its last (tallest) building on soft clay."""
+    *rest, tall = system.buildings
+    buildings = [*rest, dataclasses.replace(tall, soil=SoilFoundation(**SOFT_CLAY))]
+    return assemble(buildings, system.contacts, links)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -43,6 +57,13 @@ def main(argv: list[str] | None = None) -> int:
         ("kelvin links + bare gap", _linked(base, "kelvin", k=5e7, c=5e5)),
         ("viscous dampers (alpha 0.5) + bare gap", _linked(base, "viscous", c=2e6, alpha=0.5)),
         ("kelvin links + bumper", _linked(build("b", "bumper"), "kelvin", k=5e7, c=5e5)),
+        ("8-story on soft soil + bare gap", _on_soil(base)),
+        (
+            "soft soil + kelvin links + bumper",
+            _on_soil(
+                build("b", "bumper"), [Link("A", "B", type="kelvin", floors="common", k=5e7, c=5e5)]
+            ),
+        ),  # fmt: skip
     )
     rows = {}
     for label, system in cases:

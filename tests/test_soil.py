@@ -210,7 +210,7 @@ def test_building_on_soft_soil_pounding_its_neighbour_matches_an_independent_ivp
     ds = simulate(_pair(soil), gm, method=method, output_dt=0.005)
     assert ref["force"].max() > 1e5  # it pounds
     assert ref["rocking"] * 10.5 > 0.1 * ref["displacement_a"][-1]  # rocking matters
-    tol = 5e-3
+    tol = 1e-3  # measured: 8e-5 (Newmark, the peak force), 1.2e-5 (ivp)
     assert float(ds.peak_foundation_sway[0]) == pytest.approx(ref["sway"], rel=tol)
     assert float(ds.peak_foundation_rocking[0]) == pytest.approx(ref["rocking"], rel=tol)
     peak = ds.peak_displacement
