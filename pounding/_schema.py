@@ -177,6 +177,43 @@ ATTRS: dict[str, dict[str, str]] = {
     "soil_rocking_stiffness": {"units": "N m/rad", "long_name": "soil rocking spring K_θ"},
     "soil_sway_damping": {"units": "N s/m", "long_name": "soil sway dashpot C_x"},
     "soil_rocking_damping": {"units": "N m s/rad", "long_name": "soil rocking dashpot C_θ"},
+    "column": {"long_name": "struck column (impact node between two floors)"},
+    "segment": {"long_name": "column segment: below or above the impact point"},
+    "column_building": {"long_name": "building of the struck column"},
+    "column_story": {"long_name": "story of the struck column (1 = lowest)"},
+    "column_elevation": {"units": "m", "long_name": "elevation of the impact point"},
+    "column_xi": {"units": "1", "long_name": "impact point's height in its story, a/h"},
+    "contact_left_column": {"long_name": "struck column at the left end (-1: a floor)"},
+    "contact_right_column": {"long_name": "struck column at the right end (-1: a floor)"},
+    "column_displacement": {
+        "units": "m",
+        "long_name": "displacement of the column's impact point relative to the ground",
+    },
+    "column_shear": {
+        "units": "N",
+        "long_name": "shear (spring force) of the struck column's segment below / above the impact",
+    },
+    "peak_column_drift_shear": {
+        "units": "N",
+        "long_name": "peak of the struck column's share of its story's shear, k_c × story drift "
+        "(its shear were it not struck between floors)",
+    },
+    "peak_column_displacement": {
+        "units": "m",
+        "long_name": "peak absolute displacement of the column's impact point",
+    },
+    "peak_column_shear": {
+        "units": "N",
+        "long_name": "peak absolute shear of the struck column, either segment (output steps)",
+    },
+    "column_capacity": {
+        "units": "N",
+        "long_name": "shear capacity of the struck column segments (NaN: not given)",
+    },
+    "column_capacity_exceeded": {
+        "units": "1",
+        "long_name": "1 where the peak column shear exceeds the capacity",
+    },
     "flexible_base_period": {
         "units": "s",
         "long_name": "fundamental period on the soil springs (NaN: fixed base)",
@@ -390,6 +427,7 @@ def result_variables(
     d: dict[str, tuple] = {
         **_isolation_variables(system, raw),
         **_foundation_variables(system, raw),
+        **_column_variables(system, raw),
         **_link_variables(system, raw),
         **_story_variables(system, raw, drift, per_building(raw.peak_drift)),
     }
@@ -458,12 +496,21 @@ def result_variables(
         "mode": np.arange(1, width + 1),
         "impact": np.arange(len(imp["element"])),
         **({"impact_point": np.arange(imp["path_force"].shape[1])} if "path_force" in imp else {}),
+        **_column_coords(system),
         "floor_elevation": (("building", "floor"), _padded([b.elevations for b in bl], width)),
         "story_height": (("building", "story"), heights),
         "contact_left": (("contact",), np.array(el.left, dtype=object).astype(str)),
         "contact_right": (("contact",), np.array(el.right, dtype=object).astype(str)),
         "contact_left_floor": (("contact",), el.left_floor),
         "contact_right_floor": (("contact",), el.right_floor),
+        **(
+            {
+                "contact_left_column": (("contact",), el.left_column),
+                "contact_right_column": (("contact",), el.right_column),
+            }
+            if len(system.columns)
+            else {}
+        ),
         "contact_gap": (("contact",), el.el_gap),
         "contact_law": (("contact",), np.array(el.law, dtype=object).astype(str)),
         "contact_k": (("contact",), np.array([float(c.k) for c in group])),
@@ -698,6 +745,52 @@ def _foundation_variables(system: PoundingSystem, raw: RawResult) -> dict[str, t
     return out
 
 
+def _column_coords(system: PoundingSystem) -> dict[str, Any]:
+    col = system.columns
+    if not len(col):
+        return {}
+    return {
+        "column": np.arange(len(col)),
+        "segment": ["below", "above"],
+        "column_building": (("column",), col.building),
+        "column_story": (("column",), col.story),
+        "column_elevation": (("column",), col.elevation),
+        "column_xi": (("column",), col.xi),
+    }
+
+
+def _column_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tuple]:
+    """The struck columns' impact points: displacement, segment shears, peaks and capacity check;
+    none without floor-to-column contacts."""
+    col = system.columns
+    if not len(col):
+        return {}
+    drift = system.drift(raw.displacement)
+    lower = drift[:, col.dof]  # the node's deformation over the segment below it
+    upper = np.zeros_like(lower)
+    for q in range(len(col)):
+        above = system.dof(int(col.building[q]), int(col.story[q]))
+        upper[:, q] = drift[:, above] - lower[:, q]  # the story's deformation less the lower part
+    shear = np.stack((col.k_below * lower, col.k_above * upper), axis=-1)
+    peak = _abs_max(shear.reshape(shear.shape[0], -1)).reshape(len(col), 2).max(axis=1)
+    k_c = col.k_below * col.xi
+    share = _abs_max(k_c * (lower + upper))  # the column's part of the story's spring force
+    with np.errstate(invalid="ignore"):
+        exceeded = (peak > col.capacity).astype(np.int8)
+    return {
+        "column_displacement": (("time", "column"), raw.displacement[:, col.dof]),
+        "column_shear": (("time", "column", "segment"), shear),
+        "peak_column_displacement": (
+            ("column",),
+            np.asarray(raw.peak_displacement)[col.dof],
+        ),
+        "peak_column_shear": (("column",), peak),
+        "peak_column_drift_shear": (("column",), share),
+        "column_capacity": (("column",), col.capacity),
+        "column_capacity_exceeded": (("column",), exceeded),
+    }
+
+
 def _collapse_times(
     raw: RawResult, ratio: np.ndarray, peak_ratio: np.ndarray, can: np.ndarray
 ) -> np.ndarray:
@@ -846,18 +939,41 @@ def summary(variables: Mapping[str, tuple[tuple[str, ...], Any, Any]], attrs: Ma
             if "park_ang_damage" in variables:
                 entry["max_park_ang_damage"] = _nanmax(val("park_ang_damage")[i])
         out["buildings"][str(b)] = entry
+    columns = "contact_left_column" in variables
+
+    def end(side: str, j: int) -> str:
+        # "B:2" a floor, "B:c2" the column of story 2 struck between floors
+        struck = columns and int(val(f"contact_{side}_column")[j]) >= 0
+        return f"{val(f'contact_{side}')[j]}:{'c' if struck else ''}{int(val(f'contact_{side}_floor')[j])}"
+
     for j, c in enumerate(val("contact")):
         out["contacts"].append(
             {
                 "contact": int(c),
-                "left": f"{val('contact_left')[j]}:{int(val('contact_left_floor')[j])}",
-                "right": f"{val('contact_right')[j]}:{int(val('contact_right_floor')[j])}",
+                "left": end("left", j),
+                "right": end("right", j),
                 "law": str(val("contact_law")[j]),
                 "gap": float(val("contact_gap")[j]),
                 "impacts": int(val("impact_count")[j]),
                 "peak_force": float(val("peak_contact_force")[j]),
             }
         )
+    out["columns"] = []
+    if "peak_column_shear" in variables:
+        buildings = val("building")
+        for q in range(val("peak_column_shear").size):
+            capacity = float(val("column_capacity")[q])
+            out["columns"].append(
+                {
+                    "building": str(buildings[int(val("column_building")[q])]),
+                    "story": int(val("column_story")[q]),
+                    "elevation": float(val("column_elevation")[q]),
+                    "peak_shear": float(val("peak_column_shear")[q]),
+                    "peak_drift_shear": float(val("peak_column_drift_shear")[q]),
+                    "capacity": capacity if math.isfinite(capacity) else None,
+                    "exceeded": bool(val("column_capacity_exceeded")[q]),
+                }
+            )
     out["energy_balance_error"] = float(attrs.get("energy_balance_error", np.nan))
     out["warnings"] = _warnings(out, attrs)
     return out
@@ -882,5 +998,13 @@ def _warnings(summary: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str]
                 f"building {name}: peak drift ratio {drift:.3g} exceeds the drift limit {limit:g}: "
                 "beyond it elastic stories are no model of a real building (the limit: "
                 "[output] drift_limit)"
+            )
+    for c in summary.get("columns", []):
+        if c["exceeded"]:
+            found.append(
+                f"building {c['building']}: the column of story {c['story']} struck at "
+                f"{c['elevation']:.3g} m carries a peak shear of {c['peak_shear'] / 1e6:.3g} MN, "
+                f"above its capacity {c['capacity'] / 1e6:.3g} MN (a shear failure of the column; "
+                f"its share of the story shear alone peaks at {c['peak_drift_shear'] / 1e6:.3g} MN)"
             )
     return found

@@ -135,7 +135,8 @@ _CONTACT_KEYS = (
     Key(
         "floors",
         "any",
-        '"common", "all" (with a wall) or a non-empty list of floors / [left, right] pairs',
+        '"common", "all" (with a wall), "elevation" (slabs strike the neighbour\'s floors or '
+        "columns) or a non-empty list of floors / [left, right] pairs",
     ),
     Key("k", "number", "contact stiffness", unit="N/m^n", low=0.0, high=1e15, open_low=True),
     Key(
@@ -225,6 +226,41 @@ _CONTACT_KEYS = (
         low=0.0,
         high=1.0,
         open_low=True,
+    ),
+    Key(
+        "column_share",
+        "number",
+        'share of a struck story\'s stiffness in the struck column line (floors = "elevation", '
+        "default 1)",
+        low=0.0,
+        high=1.0,
+        open_low=True,
+    ),
+    Key(
+        "column_mass",
+        "number",
+        "mass of a struck column's impact node (default 2 % of the floor above)",
+        unit="kg",
+        low=0.0,
+        high=1e12,
+        open_low=True,
+    ),
+    Key(
+        "column_capacity",
+        "number",
+        "shear capacity of a struck column's segments: a peak above it is flagged",
+        unit="N",
+        low=0.0,
+        high=1e15,
+        open_low=True,
+    ),
+    Key(
+        "level_tolerance",
+        "number",
+        'distance within which a slab is level with a floor (floors = "elevation", default 0.1)',
+        unit="m",
+        low=0.0,
+        high=100.0,
     ),
 )
 _ANALYTIC_KEYS = (
@@ -470,8 +506,8 @@ def _contact(spec: Mapping[str, Any], where: str) -> Contact:
     floors = spec.get("floors", "common")
     if not _floors_ok(floors):
         raise CaseError(
-            f'{where}.floors = {floors!r}; allowed: "common", "all" (with a wall), a non-empty '
-            "list of floor numbers (with a wall) or of [left_floor, right_floor] pairs"
+            f'{where}.floors = {floors!r}; allowed: "common", "all" (with a wall), "elevation", a '
+            "non-empty list of floor numbers (with a wall) or of [left_floor, right_floor] pairs"
         )
     return Contact(**spec)
 
@@ -503,7 +539,7 @@ def _link(spec: Mapping[str, Any], where: str) -> Link:
 def _floors_ok(floors: Any) -> bool:
     """``floors`` is "common", "all" or a non-empty list of floor integers or integer pairs."""
     if isinstance(floors, str):
-        return floors in ("common", "all")
+        return floors in ("common", "all", "elevation")
     if not isinstance(floors, list) or not floors:
         return False
 

@@ -219,6 +219,16 @@ def _print_summary(result: Any, path: str | None) -> None:
                 f"  {c['contact']:<7d}  {c['left']:<8s} {c['right']:<8s} {c['law']:<20s} "
                 f"{c['gap']:7.4g}  {c['impacts']:7d}  {c['peak_force']:14.4g}"
             )
+    if s["columns"]:
+        typer.echo("  columns struck between floors (B:c2 above: the column of B's story 2)")
+        for c in s["columns"]:
+            capacity = "" if c["capacity"] is None else f", capacity {c['capacity'] / 1e6:.4g} MN"
+            flag = "  EXCEEDED" if c["exceeded"] else ""
+            typer.echo(
+                f"  {c['building']} story {c['story']} at {c['elevation']:.4g} m: peak shear "
+                f"{c['peak_shear'] / 1e6:.4g} MN (its share of the story shear alone "
+                f"{c['peak_drift_shear'] / 1e6:.4g} MN){capacity}{flag}"
+            )
     radii = dict(zip(variables["building"][1], variables["base_radius"][1], strict=True))
     for name, b in s["buildings"].items():
         base = b.get("peak_base_displacement")

@@ -609,6 +609,40 @@ def foundation_motion(ds: xr.Dataset) -> Figure:
     return fig
 
 
+def column_shears(ds: xr.Dataset) -> Figure:
+    """Shear of each struck column's two segments over time, with its capacity and the starts of
+    the impacts on it."""
+    n = ds.sizes.get("column", 0)
+    fig, axes = _figure(1.4 + 1.8 * max(1, n), nrows=max(1, n), sharex=True)
+    t = ds["time"].values
+    starts = ds["impact_start"].values if "impact_start" in ds else np.array([])
+    which = ds["impact_contact"].values if "impact_contact" in ds else np.array([], dtype=int)
+    names = ds["building"].values
+    for q, ax in enumerate(axes[:n, 0]):
+        sel = ds.isel(column=q)
+        for s, color in ((0, "C0"), (1, "C1")):
+            ax.plot(t, sel["column_shear"].values[:, s] / 1e6, lw=0.8, color=color,
+                    label=f"segment {sel['segment'].values[s]}")  # fmt: skip
+        capacity = float(sel["column_capacity"])
+        if np.isfinite(capacity):
+            for sign in (1, -1):
+                ax.axhline(sign * capacity / 1e6, color="C3", ls="--", lw=0.9,
+                           label="capacity" if sign > 0 else None)  # fmt: skip
+        struck = [c for c in range(ds.sizes.get("contact", 0))
+                  if q in (int(ds["contact_left_column"][c]), int(ds["contact_right_column"][c]))]  # fmt: skip
+        hit = starts[np.isin(which, struck)]
+        if hit.size:
+            ax.plot(hit, np.zeros_like(hit), "v", ms=4, color="C3", mec="k", mew=0.4)
+        building = str(names[int(sel["column_building"])])
+        ax.set_title(plain_text(f"{building} story {int(sel['column_story'])}, struck at "
+                                f"{float(sel['column_elevation']):.3g} m (▼ impact)"),
+                     fontsize="small", loc="left")  # fmt: skip
+        ax.set_ylabel("shear [MN]")
+        ax.legend(fontsize="x-small", ncol=3, loc="upper right")
+    axes[-1, 0].set_xlabel(label(ds["time"]))
+    return fig
+
+
 def bearing_hysteresis(ds: xr.Dataset) -> Figure:
     """Hysteresis loops of the isolation bearings: friction force against base displacement.
 

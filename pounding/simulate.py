@@ -348,7 +348,10 @@ def single_impact_restitution(
     this costs a few milliseconds and no compilation beyond the analysis's own."""
     k_b = mass * (2.0 * math.pi / 2000.0) ** 2
     building = ShearBuilding("m", [mass], [k_b], damping=ModalDamping((0.0,)))
-    wall = dataclasses.replace(contact, left="m", right=WALL, floors="all", gap=v0 * _KICK)
+    wall = dataclasses.replace(
+        contact, left="m", right=WALL, floors="all", gap=v0 * _KICK, column_share=None,
+        column_mass=None, column_capacity=None, level_tolerance=None,
+    )  # fmt: skip
     amplitude = v0 * math.pi / (2.0 * _KICK)  # a half sine of this amplitude gives the mass v0
     t = np.arange(0.0, _KICK + 1e-12, _KICK / 20)
     system = assemble([building], [wall])

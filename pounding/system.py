@@ -45,6 +45,18 @@ story deformations x_i − x_(i−1) − h_i θ (x_0 = u_0): with T_e mapping [u
 (K_G: the P-Δ geometric stiffness with ``p_delta``, which then also reduces the rocking stiffness by
 Σ m_i g H_i). ι is 1 on u_0 and the floors, 0 on θ. The story drift of floor i is
 x_i − x_(i−1) − h_i θ: ``below`` and ``tilt``/``tilt_height`` (:meth:`PoundingSystem.drift`).
+
+**Floor-to-column impacts.** A contact with ``floors = "elevation"`` lets a floor slab strike the
+neighbour's column between its floors (:func:`_elevation_pairs`). The struck story j gets a node at
+the impact point, at ξ = a/h_j above its lower floor (η = 1 − ξ), a degree of freedom after the
+building's floors (:class:`ColumnNodes`). Only the struck column line, a share k_c = s k_j of the
+story's stiffness, is split (Karayannis & Favvata 2005 model the hit column; the shear idealisation
+of a column with rigid floors): k_j − k_c stays floor to floor, k_c/ξ joins the lower floor to the
+node and k_c/η the node to the upper floor, in series k_c, so the story's lateral stiffness is
+unchanged while nothing strikes it (the node's static condensation gives back K). With the floors
+held, a force F at the node meets the local stiffness k_c/(ξη) and reactions ηF below, ξF above.
+The node carries a share of the column's mass (``column_mass``) and, with Rayleigh damping, the
+same a0 m + a1 k damping as the rest of the building.
 """
 
 from __future__ import annotations
@@ -74,6 +86,12 @@ WALL = "wall"
 LEVEL_TOLERANCE = 1e-6
 #: Floor number that stands for an isolated building's base slab in a contact definition.
 BASE_FLOOR = 0
+#: ``floors`` of a contact that pairs the slabs with the neighbour's floors or columns by elevation.
+ELEVATION = "elevation"
+#: Default distance [m] within which a slab is level with a floor (``level_tolerance``).
+LEVEL_TOLERANCE_DEFAULT = 0.1
+#: Default mass of a column's impact node, as a fraction of the floor above the struck story.
+COLUMN_MASS_FRACTION = 0.02
 
 #: How the integrators treat a friction element (``fr_kind``): a regularised law f(v) from its
 #: kernel, exact Coulomb stick-slip, or a law with a Bouc-Wen variable z.
@@ -109,6 +127,12 @@ class Contact:
     k_filler, c_filler
         The viscoelastic filler of ``law = "filler"``, filling the whole gap: stiffness [N/m] and
         damping [N s/m] (``crush``: the fraction of the gap compressed when the structures meet).
+    column_share, column_mass, column_capacity, level_tolerance
+        With ``floors = "elevation"`` (module docstring, floor-to-column impacts): the share
+        k_c/k (0 < s ≤ 1, default 1) of a struck story's stiffness in the struck column line, the
+        mass of its impact node [kg] (default 2 % of the floor above), the column segments' shear
+        capacity [N] (a peak above it is flagged; default none), and the distance [m] within which
+        a slab counts as level with a floor (default 0.1).
     """
 
     left: str
@@ -128,6 +152,10 @@ class Contact:
     crush: float = 1.0
     k_filler: float | None = None
     c_filler: float | None = None
+    column_share: float | None = None
+    column_mass: float | None = None
+    column_capacity: float | None = None
+    level_tolerance: float | None = None
 
     @property
     def filler(self) -> tuple[float, float, float] | None:
@@ -209,6 +237,29 @@ class Contact:
                 raise PoundingInputError(
                     f"{where}: {', '.join(given)} belong to law 'filler' (law is {law.name!r})"
                 )
+        column_keys = ("column_share", "column_mass", "column_capacity", "level_tolerance")
+        if self.floors != ELEVATION:
+            given = [key for key in column_keys if getattr(self, key) is not None]
+            if given:
+                raise PoundingInputError(
+                    f"{where}: {', '.join(given)} apply to floor-to-column impacts, floors = "
+                    f"'elevation' (floors is {self.floors!r})"
+                )
+            return
+        for key, low, high, unit in (
+            ("column_share", 0.0, 1.0, ""),
+            ("column_mass", 0.0, math.inf, " [kg]"),
+            ("column_capacity", 0.0, math.inf, " [N]"),
+        ):
+            value = getattr(self, key)
+            if value is not None and not (low < float(value) <= high):
+                allowed = f"0 < {key} <= 1" if high == 1.0 else "a positive number"
+                raise PoundingInputError(f"{where}: {key} = {value!r}{unit}; allowed: {allowed}")
+        tol = self.level_tolerance
+        if tol is not None and not (math.isfinite(float(tol)) and float(tol) >= 0.0):
+            raise PoundingInputError(
+                f"{where}: level_tolerance = {tol!r} [m]; allowed: a finite number >= 0"
+            )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -300,9 +351,48 @@ class GapElements:
     right_floor: np.ndarray
     law: tuple[str, ...]
     group: np.ndarray
+    #: per element, the struck column (index into :class:`ColumnNodes`) on each side, −1 for a floor
+    left_column: np.ndarray | None = None
+    right_column: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("left_column", "right_column"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, np.full(self.el_gap.size, -1, dtype=np.int64))
 
     def __len__(self) -> int:
         return int(self.el_gap.size)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class ColumnNodes:
+    """The impact nodes of struck columns (module docstring, floor-to-column impacts), one row per
+    node: ``dof``; ``building`` index, ``story`` number (1 = lowest), ``xi`` = a/h of the impact
+    point, its ``elevation`` [m]; the segment stiffnesses ``k_below`` = k_c/ξ and ``k_above`` =
+    k_c/η [N/m] (k_c = ``share`` × story stiffness), the node ``mass`` [kg], the shear
+    ``capacity`` [N] (NaN: none given) and the ``group`` of the contact that placed it."""
+
+    dof: np.ndarray
+    building: np.ndarray
+    story: np.ndarray
+    xi: np.ndarray
+    elevation: np.ndarray
+    share: np.ndarray
+    k_below: np.ndarray
+    k_above: np.ndarray
+    mass: np.ndarray
+    capacity: np.ndarray
+    group: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.dof.size)
+
+    @classmethod
+    def empty(cls) -> ColumnNodes:
+        z = np.zeros(0)
+        i = np.zeros(0, np.int64)
+        return cls(i, i.copy(), i.copy(), z, z.copy(), z.copy(), z.copy(), z.copy(), z.copy(),
+                   z.copy(), i.copy())  # fmt: skip
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -425,6 +515,7 @@ class PoundingSystem:
     #: per dof, the rocking dof that tilts its story (−1 if none) and the story height it tilts
     tilt: np.ndarray | None = None
     tilt_height: np.ndarray | None = None
+    columns: ColumnNodes = dataclasses.field(default_factory=ColumnNodes.empty)
 
     def __post_init__(self) -> None:
         n, nb = self.n_dof, len(self.buildings)
@@ -487,19 +578,25 @@ class PoundingSystem:
 
         An isolated building counts both with its bearings stuck (the fixed-base superstructure) and
         sliding (the free base slab on the superstructure, a shorter period when the slab is light);
-        a building on soil with its foundation's sway and rocking.
+        a building on soil with its foundation's sway and rocking, one with struck columns with
+        their impact nodes.
         """
         periods = [float(b.modal().periods.min()) for b in self.buildings]
         for i, b in enumerate(self.buildings):
-            if b.isolated or b.flexible_base:
+            if b.isolated or b.flexible_base or np.any(self.columns.building == i):
                 periods.append(float(self.building_periods(i).min()))
         return min(periods)
 
     def building_dofs(self, building: int) -> slice:
         """The consecutive dofs of a building: [base slab | sway, rocking] and its floors."""
         b = self.buildings[building]
-        hi = int(self.dof_offset[building]) + b.n_floors
-        return slice(hi - b.n_floors - (1 if b.isolated else 0) - (2 if b.flexible_base else 0), hi)
+        lo = (
+            int(self.dof_offset[building])
+            - (1 if b.isolated else 0)
+            - (2 if b.flexible_base else 0)
+        )
+        nodes = int(np.count_nonzero(self.columns.building == building))
+        return slice(lo, int(self.dof_offset[building]) + b.n_floors + nodes)
 
     def building_periods(self, building: int) -> np.ndarray:
         """Undamped periods [s] of a building with its base dofs (contacts and links open),
@@ -623,24 +720,9 @@ def assemble(
     if WALL in names:
         raise PoundingInputError(f"{WALL!r} is reserved for rigid walls and cannot name a building")
     index = {n: i for i, n in enumerate(names)}
-    # each building: [base slab if isolated | sway, rocking on soil] + floors; offsets = dof of
-    # floor 1
-    extra = [(1 if b.isolated else 0) + (2 if b.flexible_base else 0) for b in buildings]
-    sizes = [b.n_floors + x for b, x in zip(buildings, extra, strict=True)]
-    starts = np.concatenate(([0], np.cumsum(sizes)[:-1])).astype(np.int64)
-    base_dof = np.array(
-        [s if b.isolated else -1 for b, s in zip(buildings, starts, strict=True)], dtype=np.int64
-    )
-    soil_dof = np.array(
-        [
-            (s, s + 1) if b.flexible_base else (-1, -1)
-            for b, s in zip(buildings, starts, strict=True)
-        ],
-        dtype=np.int64,
-    ).reshape(len(buildings), 2)
-    offsets = starts + np.array(extra, dtype=np.int64)
-
-    rows: list[dict[str, Any]] = []
+    # the contacts' floor pairs first: a slab striking a column adds a node to the struck building
+    nodes: list[list[dict[str, Any]]] = [[] for _ in buildings]
+    expanded = []
     for g, contact in enumerate(contacts):
         # contact[g], as in the case file's [[contact]] list (and the caller's contacts sequence)
         where = f"contact[{g}] {contact.left!r}-{contact.right!r}"
@@ -660,10 +742,52 @@ def assemble(
             )
         lb = buildings[li] if li is not None else None
         rb = buildings[ri] if ri is not None else None
+        if contact.floors == ELEVATION:
+            pairs = []
+            for fl, fr, side, xi in _elevation_pairs(contact, lb, rb, where):
+                struck = li if side == "left" else ri
+                q = -1
+                if side is not None:
+                    story = fl if side == "left" else fr
+                    q = _column_node(nodes[struck], buildings[struck], story, xi, contact, g, where)
+                pairs.append((fl, fr, side, q))
+        else:
+            pairs = [(fl, fr, None, -1) for fl, fr in _floor_pairs(contact, lb, rb, where)]
+        expanded.append((li, ri, lb, rb, pairs))
+    # each building: [base slab if isolated | sway, rocking on soil] + floors + column nodes;
+    # offsets = dof of floor 1
+    extra = [(1 if b.isolated else 0) + (2 if b.flexible_base else 0) for b in buildings]
+    sizes = [b.n_floors + x + len(q) for b, x, q in zip(buildings, extra, nodes, strict=True)]
+    starts = np.concatenate(([0], np.cumsum(sizes)[:-1])).astype(np.int64)
+    base_dof = np.array(
+        [s if b.isolated else -1 for b, s in zip(buildings, starts, strict=True)], dtype=np.int64
+    )
+    soil_dof = np.array(
+        [
+            (s, s + 1) if b.flexible_base else (-1, -1)
+            for b, s in zip(buildings, starts, strict=True)
+        ],
+        dtype=np.int64,
+    ).reshape(len(buildings), 2)
+    offsets = starts + np.array(extra, dtype=np.int64)
+    # global column index of each building's first node
+    first_node = np.concatenate(([0], np.cumsum([len(q) for q in nodes])[:-1])).astype(np.int64)
+
+    def end(bi: int | None, b: ShearBuilding | None, floor: int, q: int) -> tuple[int, float, int]:
+        """(dof, mass, global column index or −1) of a contact end."""
+        if b is None:
+            return -1, math.inf, -1
+        if q >= 0:
+            return int(offsets[bi] + b.n_floors + q), nodes[bi][q]["mass"], int(first_node[bi] + q)
+        return int(offsets[bi] + floor - 1), _point_mass(b, floor), -1
+
+    rows: list[dict[str, Any]] = []
+    for g, (contact, (li, ri, lb, rb, pairs)) in enumerate(zip(contacts, expanded, strict=True)):
+        where = f"contact[{g}] {contact.left!r}-{contact.right!r}"
         law: ContactLaw = get_contact_law(contact.law)
-        for fl, fr in _floor_pairs(contact, lb, rb, where):
-            ma = _point_mass(lb, fl)
-            mb = _point_mass(rb, fr)
+        for fl, fr, side, q in pairs:
+            dof_a, ma, col_a = end(li, lb, fl, q if side == "left" else -1)
+            dof_b, mb, col_b = end(ri, rb, fr, q if side == "right" else -1)
             m_eff = mb if math.isinf(ma) else ma if math.isinf(mb) else ma * mb / (ma + mb)
             try:
                 params = contact_parameters(
@@ -682,10 +806,7 @@ def assemble(
                 raise PoundingInputError(f"{where}: {exc}") from None
             rows.append(
                 dict(
-                    dof=(
-                        offsets[li] + fl - 1 if lb is not None else -1,
-                        offsets[ri] + fr - 1 if rb is not None else -1,
-                    ),
+                    dof=(dof_a, dof_b),
                     sign=(
                         LEFT_SIGN if lb is not None else 0.0,
                         RIGHT_SIGN if rb is not None else 0.0,
@@ -700,6 +821,7 @@ def assemble(
                     rf=fr,
                     law=law.name,
                     group=g,
+                    columns=(col_a, col_b),
                 )
             )
 
@@ -717,26 +839,37 @@ def assemble(
         right_floor=np.array([r["rf"] for r in rows], dtype=np.int64),
         law=tuple(r["law"] for r in rows),
         group=np.array([r["group"] for r in rows], dtype=np.int64),
+        left_column=np.array([r["columns"][0] for r in rows], dtype=np.int64),
+        right_column=np.array([r["columns"][1] for r in rows], dtype=np.int64),
     )
     # dof below each dof: the floor below, the base slab (or the sway dof) under floor 1, -1 (the
     # ground) for a base slab, a foundation's dofs and floor 1 of a fixed-base building; a rocking
-    # foundation tilts each of its stories by h_i θ
-    below, tilt, tilt_height, influence = [], [], [], []
-    for b, s, o in zip(buildings, starts, offsets, strict=True):
-        floors_below = o + np.arange(b.n_floors - 1)
+    # foundation tilts each of its stories by h_i θ. A column node sits on its story's lower floor
+    # and is tilted by ξ h θ.
+    below, tilt, tilt_height, influence, heights = [], [], [], [], []
+    for b, s, o, q in zip(buildings, starts, offsets, nodes, strict=True):
         n = b.n_floors
-        if b.isolated:
-            below.append(np.concatenate(([-1, s], floors_below)))
-        elif b.flexible_base:
-            below.append(np.concatenate(([-1, -1, s], floors_below)))
-        else:
-            below.append(np.concatenate(([-1], floors_below)))
+        ground = s if b.isolated or b.flexible_base else -1
+        floor_below = np.concatenate(([ground], o + np.arange(n - 1)))
+        story = np.array([node["story"] for node in q], dtype=np.int64)
+        xi = np.array([node["xi"] for node in q])
         lead = o - s
         rocks = b.flexible_base
-        tilt.append(np.concatenate((np.full(lead, -1), np.full(n, s + 1 if rocks else -1))))
-        tilt_height.append(np.concatenate((np.zeros(lead), b.heights if rocks else np.zeros(n))))
-        influence.append(np.concatenate(([1.0, 0.0] if rocks else np.ones(lead), np.ones(n))))
-    blocks = [building_matrices(b) for b in buildings]
+        below.append(np.concatenate((np.full(lead, -1), floor_below, floor_below[story - 1])))
+        rock_h = np.concatenate((b.heights, xi * b.heights[story - 1]))
+        tilt.append(
+            np.concatenate((np.full(lead, -1), np.full(n + len(q), s + 1 if rocks else -1)))
+        )
+        tilt_height.append(
+            np.concatenate((np.zeros(lead), rock_h if rocks else np.zeros(n + len(q))))
+        )
+        influence.append(
+            np.concatenate(([1.0, 0.0] if rocks else np.ones(lead), np.ones(n + len(q))))
+        )
+        # a node's "story" is not checked for collapse (height 0): its segments are in the story's
+        heights.append(np.concatenate((np.zeros(lead), b.heights, np.zeros(len(q)))))
+    blocks = [building_matrices(b, q) for b, q in zip(buildings, nodes, strict=True)]
+    below_all = np.concatenate(below).astype(np.int64)
     return PoundingSystem(
         buildings=buildings,
         contacts=tuple(contacts),
@@ -746,21 +879,134 @@ def assemble(
         stiffness=_block_diag([k for _, _, k in blocks]),
         influence=np.concatenate(influence),
         dof_offset=offsets,
-        below=np.concatenate(below).astype(np.int64),
-        story_height=np.concatenate(
-            [
-                np.concatenate((np.zeros(x), b.heights))
-                for b, x in zip(buildings, extra, strict=True)
-            ]
-        ),
+        below=below_all,
+        story_height=np.concatenate(heights),
         base_dof=base_dof,
         friction=_friction_elements(buildings, base_dof),
         links=_link_elements(links, buildings, index, offsets),
         link_specs=tuple(links),
-        stories=_story_elements(buildings, offsets, np.concatenate(below).astype(np.int64)),
+        stories=_story_elements(buildings, offsets, below_all),
         soil_dof=soil_dof,
         tilt=np.concatenate(tilt).astype(np.int64),
         tilt_height=np.concatenate(tilt_height),
+        columns=_column_nodes(buildings, nodes, offsets),
+    )
+
+
+def _elevation_pairs(
+    contact: Contact, left: ShearBuilding | None, right: ShearBuilding | None, where: str
+) -> list[tuple[int, int, str | None, float]]:
+    """(left floor, right floor, struck side, ξ) of ``floors = "elevation"``: every floor of the
+    building with the shorter stories (the left one on a tie), up to the neighbour's roof, paired
+    with the neighbour's floor within ``level_tolerance`` of its elevation, or else with the column
+    of the neighbour's story at that elevation (struck side "left"/"right", the story number in
+    its floor slot, ξ = a/h; side None for a floor pair)."""
+    if left is None or right is None:
+        raise PoundingInputError(
+            f"{where}: floors = 'elevation' pairs the floors of two buildings; allowed with a "
+            "wall: 'all' or a list of floors"
+        )
+    tol = LEVEL_TOLERANCE_DEFAULT if contact.level_tolerance is None else contact.level_tolerance
+    striking_left = float(np.mean(left.heights)) <= float(np.mean(right.heights))
+    s, other = (left, right) if striking_left else (right, left)
+    side = "right" if striking_left else "left"
+    z_other = other.elevations
+    bottoms = np.concatenate(([0.0], z_other[:-1]))
+    out = []
+    for f, z in enumerate(s.elevations, start=1):
+        if z > z_other[-1] + tol:
+            break  # above the neighbour's roof
+        near = int(np.argmin(np.abs(z_other - z)))
+        if abs(z_other[near] - z) <= tol:
+            pair = (f, near + 1) if striking_left else (near + 1, f)
+            out.append((*pair, None, 0.0))
+            continue
+        j = int(np.searchsorted(z_other, z))  # story j + 1 holds z
+        xi = (z - bottoms[j]) / other.heights[j]
+        pair = (f, j + 1) if striking_left else (j + 1, f)
+        out.append((*pair, side, float(xi)))
+    if not out:
+        raise PoundingInputError(
+            f"{where}: floors = 'elevation' but no floor of {s.name!r} is below the roof of "
+            f"{other.name!r} ({z_other[-1]:.4g} m)"
+        )
+    return out
+
+
+def _column_node(
+    nodes: list[dict[str, Any]],
+    building: ShearBuilding,
+    story: int,
+    xi: float,
+    contact: Contact,
+    group: int,
+    where: str,
+) -> int:
+    """Index in ``nodes`` of the impact node at ξ of ``story`` (added if new); one node per story."""
+    h = float(building.heights[story - 1])
+    tol = LEVEL_TOLERANCE_DEFAULT if contact.level_tolerance is None else contact.level_tolerance
+    for q, node in enumerate(nodes):
+        if node["story"] != story:
+            continue
+        if abs(node["xi"] - xi) * h <= max(tol, 1e-9):
+            return q
+        raise PoundingInputError(
+            f"{where}: story {story} of {building.name!r} is struck at {xi * h:.3g} m and at "
+            f"{node['xi'] * h:.3g} m above its lower floor; allowed: one impact point per story "
+            "(a larger level_tolerance merges them with a floor)"
+        )
+    if building.stories.yielding:
+        raise PoundingInputError(
+            f"{where}: the column of story {story} of {building.name!r} is struck between floors, "
+            f"but its stories yield ({building.stories.model!r}); floor-to-column impacts are "
+            "supported on elastic stories only (with or without p_delta)"
+        )
+    share = 1.0 if contact.column_share is None else float(contact.column_share)
+    mass = contact.column_mass
+    nodes.append(
+        dict(
+            story=story,
+            xi=xi,
+            share=share,
+            mass=COLUMN_MASS_FRACTION * float(building.masses[story - 1]) if mass is None
+            else float(mass),
+            capacity=math.nan if contact.column_capacity is None else float(contact.column_capacity),
+            group=group,
+        )
+    )  # fmt: skip
+    return len(nodes) - 1
+
+
+def _column_nodes(
+    buildings: tuple[ShearBuilding, ...], nodes: list[list[dict[str, Any]]], offsets: np.ndarray
+) -> ColumnNodes:
+    rows = [
+        (int(offsets[i] + b.n_floors + q), i, node, b)
+        for i, (b, q_nodes) in enumerate(zip(buildings, nodes, strict=True))
+        for q, node in enumerate(q_nodes)
+    ]
+    if not rows:
+        return ColumnNodes.empty()
+
+    def col(f):
+        return np.array([f(node, b) for _, _, node, b in rows])
+
+    k_c = col(lambda node, b: node["share"] * b.stiffnesses[node["story"] - 1])
+    xi = col(lambda node, b: node["xi"])
+    bottom = col(lambda node, b: b.elevations[node["story"] - 1] - b.heights[node["story"] - 1])
+    height = col(lambda node, b: b.heights[node["story"] - 1])
+    return ColumnNodes(
+        dof=np.array([r[0] for r in rows], dtype=np.int64),
+        building=np.array([r[1] for r in rows], dtype=np.int64),
+        story=col(lambda node, b: node["story"]).astype(np.int64),
+        xi=xi,
+        elevation=bottom + xi * height,
+        share=col(lambda node, b: node["share"]),
+        k_below=k_c / xi,
+        k_above=k_c / (1.0 - xi),
+        mass=col(lambda node, b: node["mass"]),
+        capacity=col(lambda node, b: node["capacity"]),
+        group=col(lambda node, b: node["group"]).astype(np.int64),
     )
 
 
@@ -856,50 +1102,94 @@ def _point_mass(building: ShearBuilding | None, floor: int) -> float:
     return float(building.masses[floor - 1])
 
 
-def building_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def building_matrices(
+    building: ShearBuilding, nodes: Sequence[dict[str, Any]] = ()
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """M, C, K of one building in the system's dofs ([u_b, u_1..u_n] when isolated, [u_0, θ,
-    u_1..u_n] on soil; module docstring);
-    K includes the P-Δ geometric stiffness of a building with ``p_delta``.
+    u_1..u_n] on soil, then its column ``nodes``; module docstring); K includes the P-Δ geometric
+    stiffness of a building with ``p_delta``.
 
     A fixed-base building's own matrices; an isolated one's K_ext = Tᵀ K T (+ W/R at the base for a
     friction pendulum, Zayas et al. 1990), C_ext = Tᵀ C T, M_ext = diag(m_b, m_1..m_n).
     """
-    m, c = building.mass_matrix(), building.damping_matrix()
-    k = building.stiffness_matrix() + building.geometric_stiffness_matrix()
+    m, c, k, kg, z = _superstructure(building, nodes)
     if building.soil is not None:
-        return _flexible_base_matrices(building)
+        return _flexible_base_matrices(building, m, c, k, kg, z)
+    k = k + kg
     base = building.base
     if base is None:
         return m, c, k
-    n = building.n_floors
+    n = m.shape[0]
     t = np.hstack((-np.ones((n, 1)), np.eye(n)))  # floor displacement relative to the slab
     k_ext = t.T @ k @ t
     c_ext = t.T @ c @ t
     if base.radius is not None:
         k_ext[0, 0] += building.weight / base.radius
-    m_ext = np.diag(np.concatenate(([base.mass], building.masses)))
+    m_ext = np.diag(np.concatenate(([base.mass], np.diag(m))))
     return m_ext, 0.5 * (c_ext + c_ext.T), 0.5 * (k_ext + k_ext.T)
 
 
-def _flexible_base_matrices(building: ShearBuilding) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """M, C, K of a building on soil in the dofs [u_0, θ, x_1..x_n] (module docstring)."""
+def _superstructure(
+    building: ShearBuilding, nodes: Sequence[dict[str, Any]]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """M, C, K, K_G of the building on a fixed base in [u_1..u_n, column nodes], and the heights
+    [m] of those dofs. A node at ξ of story j moves k_c = share k_j from the floor-to-floor spring
+    to k_c/ξ below it and k_c/η above (module docstring); with Rayleigh damping (C = a0 M + a1 K)
+    its springs and mass are damped alike, with modal damping the node has none of its own."""
+    n, nn = building.n_floors, len(nodes)
+    size = n + nn
+    m = np.zeros((size, size))
+    k = np.zeros((size, size))
+    kg = np.zeros((size, size))
+    c = np.zeros((size, size))
+    m[:n, :n] = building.mass_matrix()
+    k[:n, :n] = building.stiffness_matrix()
+    kg[:n, :n] = building.geometric_stiffness_matrix()
+    c[:n, :n] = building.damping_matrix()
+    a0, a1 = building.rayleigh_coefficients() if building._uses_rayleigh() else (0.0, 0.0)
+    z = np.concatenate((building.elevations, np.zeros(nn)))
+    for q, node in enumerate(nodes):
+        j, xi = int(node["story"]) - 1, float(node["xi"])  # floor above: index j, below: j - 1
+        k_c = float(node["share"]) * float(building.stiffnesses[j])
+        dk = np.zeros((size, size))
+        for a, b, kk in ((j - 1, j, -k_c), (j - 1, n + q, k_c / xi), (n + q, j, k_c / (1.0 - xi))):
+            for p, r, sign in ((a, a, 1.0), (b, b, 1.0), (a, b, -1.0), (b, a, -1.0)):
+                if p >= 0 and r >= 0:  # -1: the ground (or the base under floor 1)
+                    dk[p, r] += sign * kk
+        k += dk
+        c += a1 * dk
+        m[n + q, n + q] = float(node["mass"])
+        c[n + q, n + q] += a0 * float(node["mass"])
+        z[n + q] = float(building.elevations[j] - building.heights[j] * (1.0 - xi))
+    return m, c, k, kg, z
+
+
+def _flexible_base_matrices(
+    building: ShearBuilding,
+    m: np.ndarray,
+    c: np.ndarray,
+    k: np.ndarray,
+    kg: np.ndarray,
+    z: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M, C, K of a building on soil in the dofs [u_0, θ, x_1..x_n, nodes] (module docstring), from
+    its fixed-base m, c, k, kg and the heights z of those dofs."""
     soil = building.soil
     assert soil is not None
-    n = building.n_floors
+    n = m.shape[0]
     t_g = np.hstack((-np.ones((n, 1)), np.zeros((n, 1)), np.eye(n)))  # x_i − u_0
     t_e = t_g.copy()
-    t_e[:, 1] = -building.elevations  # x_i − u_0 − H_i θ: the deformation of the stories
-    k = t_e.T @ building.stiffness_matrix() @ t_e
-    k += t_g.T @ building.geometric_stiffness_matrix() @ t_g
-    c = t_e.T @ building.damping_matrix() @ t_e
+    t_e[:, 1] = -z  # x_i − u_0 − H_i θ: the deformation of the stories
+    k_ext = t_e.T @ k @ t_e + t_g.T @ kg @ t_g
+    c_ext = t_e.T @ c @ t_e
     k_x, k_t = soil.springs
     c_x, c_t = soil.dashpot_coefficients
-    k[0, 0] += k_x
-    k[1, 1] += k_t
-    c[0, 0] += c_x
-    c[1, 1] += c_t
-    m = np.diag(np.concatenate(([soil.mass, soil.rotational_inertia], building.masses)))
-    return m, 0.5 * (c + c.T), 0.5 * (k + k.T)
+    k_ext[0, 0] += k_x
+    k_ext[1, 1] += k_t
+    c_ext[0, 0] += c_x
+    c_ext[1, 1] += c_t
+    m_ext = np.diag(np.concatenate(([soil.mass, soil.rotational_inertia], np.diag(m))))
+    return m_ext, 0.5 * (c_ext + c_ext.T), 0.5 * (k_ext + k_ext.T)
 
 
 def _friction_elements(

@@ -106,6 +106,8 @@ def facing_pairs(system: PoundingSystem) -> tuple[FacingPair, ...]:
                     add(a.name, i + 1, b.name, j + 1)
     el = system.elements
     for c in range(len(el)):
+        if el.left_column[c] >= 0 or el.right_column[c] >= 0:
+            continue  # a slab against a column between floors: no floor pair to check
         add(el.left[c], int(el.left_floor[c]), el.right[c], int(el.right_floor[c]))
     return tuple(out)
 

@@ -1,0 +1,267 @@
+"""Floor-to-column (mid-story) impacts: a slab striking the neighbour's column between its floors, the
+struck story split at the impact point into two column segments. Checked against statics (the split
+leaves the story's stiffness unchanged; the local stiffness and reactions of a shear column), the
+floor-to-floor contact it reduces to, and an independent solve_ivp integration of a 3-vs-2-story row."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from pounding import PoundingInputError, simulate
+from pounding.case import CaseError, case_from_dict
+from pounding.ground_motion import sine_pulse
+from pounding.structure import ShearBuilding
+from pounding.system import Contact, assemble
+from pounding.units import G
+
+K_HERTZ = 2.0e9
+GAP = 0.005
+M_COLUMN = 5.0e3
+SHARE = 0.5
+
+
+def _row(floors="elevation", **kw):
+    """A: 3 stories of 3 m (floors at 3, 6, 9 m); B: 2 stories of 4.5 m (4.5, 9 m). A's floor 1
+    strikes B's story-1 column at ξ = 2/3, floor 2 B's story-2 column at ξ = 1/3, floor 3 B's roof."""
+    a = ShearBuilding.uniform("A", 3, period=0.35, mass=3.0e5, height=3.0)
+    b = ShearBuilding.uniform("B", 2, period=0.3, mass=4.0e5, height=4.5)
+    spec = dict(column_share=SHARE, column_mass=M_COLUMN)
+    spec.update(kw)
+    contact = Contact("A", "B", gap=GAP, law="hertz", k=K_HERTZ, floors=floors, **spec)
+    return assemble([a, b], [contact])
+
+
+def test_elevation_pairs_floors_with_floors_and_columns():
+    system = _row()
+    col = system.columns
+    assert list(col.story) == [1, 2]
+    np.testing.assert_allclose(col.xi, [2 / 3, 1 / 3])
+    np.testing.assert_allclose(col.elevation, [3.0, 6.0])
+    el = system.elements
+    assert list(el.left_floor) == [1, 2, 3]
+    assert list(el.right_floor) == [1, 2, 2]  # the struck stories, then B's roof
+    assert list(el.right_column) == [0, 1, -1]
+    assert el.el_dof[0, 1] == col.dof[0] and el.el_dof[2, 1] == system.dof(1, 2)
+    # the contact's effective mass is that of the slab and the column node
+    assert el.el_mass[0] == pytest.approx(3.0e5 * M_COLUMN / (3.0e5 + M_COLUMN))
+
+
+def test_split_story_keeps_its_stiffness_when_nothing_strikes_it():
+    # static condensation of the column nodes gives back the shear building's K exactly
+    system = _row()
+    s = system.building_dofs(1)
+    k = system.stiffness[s, s]
+    floors = [0, 1]
+    nodes = [2, 3]
+    kff, kfn, knn = k[np.ix_(floors, floors)], k[np.ix_(floors, nodes)], k[np.ix_(nodes, nodes)]
+    condensed = kff - kfn @ np.linalg.solve(knn, kfn.T)
+    b = system.buildings[1]
+    np.testing.assert_allclose(condensed, b.stiffness_matrix(), rtol=1e-12)
+
+
+@pytest.mark.parametrize("xi", [0.3, 0.5, 0.8])
+def test_struck_shear_column_with_floors_held_has_stiffness_kc_over_xi_eta(xi):
+    # a force F at the node with both floors held: u_m = F ξ η / k_c, reactions η F below, ξ F above
+    h = 4.0
+    a = ShearBuilding("A", [3e5], [4e8], heights=[xi * h])
+    b = ShearBuilding("B", [3e5], [6e8], heights=[h])
+    system = assemble([a, b], [Contact("A", "B", gap=0.01, law="linear", k=1e9,
+                                       floors="elevation", column_share=0.4)])  # fmt: skip
+    col = system.columns
+    assert col.xi[0] == pytest.approx(xi)
+    k = system.stiffness
+    m, top = int(col.dof[0]), system.dof(1, 1)
+    k_c = 0.4 * 6e8
+    assert k[m, m] == pytest.approx(k_c / (xi * (1 - xi)), rel=1e-12)
+    f = 1.0e5
+    u_m = f / k[m, m]  # floor held: the node alone moves
+    assert u_m == pytest.approx(f * xi * (1 - xi) / k_c, rel=1e-12)
+    below = k_c / xi * u_m  # segment forces: the reactions at the ground and at the floor
+    above = -k[top, m] * u_m
+    assert below == pytest.approx((1 - xi) * f, rel=1e-12)
+    assert above == pytest.approx(xi * f, rel=1e-12)
+
+
+def test_elevation_equals_common_when_the_floors_line_up():
+    gm = sine_pulse(amplitude=0.4 * G, period=0.5, duration=2.0, dt=0.005)
+    a = ShearBuilding.uniform("A", 3, period=0.35, mass=3.0e5)
+    b = ShearBuilding.uniform("B", 5, period=0.6, mass=3.0e5)
+    runs = [
+        simulate(
+            assemble([a, b], [Contact("A", "B", gap=GAP, law="hertz", k=K_HERTZ, floors=f)]), gm
+        )  # fmt: skip
+        for f in ("common", "elevation")
+    ]
+    assert int(runs[0].impact_count.sum()) > 0
+    np.testing.assert_array_equal(runs[0].displacement.values, runs[1].displacement.values)
+    assert runs[1].sizes.get("column", 0) == 0
+
+
+def test_a_slab_within_the_level_tolerance_strikes_the_floor():
+    # A's floors at 3.05 and 6.05 m, B's at 3.0 and 7.5 m: 3.05 m is B's floor 1 (within the default
+    # 0.1 m), 6.05 m strikes B's story-2 column at ξ = 3.05/4.5
+    a = ShearBuilding("A", [3e5, 3e5], [4e8, 4e8], heights=[3.05, 3.0])
+    b = ShearBuilding("B", [3e5, 3e5], [4e8, 4e8], heights=[3.0, 4.5])
+    contact = dict(gap=GAP, law="hertz", k=K_HERTZ, floors="elevation")
+    system = assemble([a, b], [Contact("A", "B", **contact)])
+    assert list(system.elements.right_floor) == [1, 2]
+    assert list(system.elements.right_column) == [-1, 0]
+    assert system.columns.xi[0] == pytest.approx(3.05 / 4.5)
+    with pytest.raises(PoundingInputError, match="story 2 of 'B'"):  # two points in one story
+        assemble([a, b], [Contact("A", "B", **contact, level_tolerance=0.01)])
+
+
+def _reference(gm, t_end):
+    """The 3-vs-2 row in its own coordinates [A1..A3, B1, B2, n1, n2], DOP853 at rtol 1e-10."""
+    a = ShearBuilding.uniform("A", 3, period=0.35, mass=3.0e5, height=3.0)
+    b = ShearBuilding.uniform("B", 2, period=0.3, mass=4.0e5, height=4.5)
+    k1, k2 = b.stiffnesses
+    xi = (2 / 3, 1 / 3)
+    n = 7
+    kk = np.zeros((n, n))
+    kk[:3, :3] = a.stiffness_matrix()
+
+    def spring(i, j, k):  # i, j: dofs (-1 = ground)
+        for p, q, s in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
+            if p >= 0 and q >= 0:
+                kk[p, q] += s * k
+
+    b1, b2, n1, n2 = 3, 4, 5, 6
+    spring(-1, b1, (1 - SHARE) * k1)
+    spring(-1, n1, SHARE * k1 / xi[0])
+    spring(n1, b1, SHARE * k1 / (1 - xi[0]))
+    spring(b1, b2, (1 - SHARE) * k2)
+    spring(b1, n2, SHARE * k2 / xi[1])
+    spring(n2, b2, SHARE * k2 / (1 - xi[1]))
+    mass = np.concatenate((a.masses, b.masses, [M_COLUMN, M_COLUMN]))
+    cc = np.zeros((n, n))
+    cc[:3, :3] = a.damping_matrix()
+    a0, a1 = b.rayleigh_coefficients()  # Rayleigh on B's split K and its masses with the nodes
+    cc[3:, 3:] = a0 * np.diag(mass[3:]) + a1 * kk[3:, 3:]
+    pairs = ((0, n1), (1, n2), (2, b2))
+
+    def forces(u):
+        f = np.zeros(n)
+        fc = np.zeros(3)
+        for c, (i, j) in enumerate(pairs):
+            d = u[i] - u[j] - GAP
+            fc[c] = K_HERTZ * d**1.5 if d > 0 else 0.0
+            f[i] -= fc[c]
+            f[j] += fc[c]
+        return f, fc
+
+    def rhs(t, y):
+        u, v = y[:n], y[n:]
+        acc = (forces(u)[0] - kk @ u - cc @ v) / mass - gm.at(np.array([t]))[0]
+        return np.concatenate((v, acc))
+
+    sol = solve_ivp(rhs, (0.0, t_end), np.zeros(2 * n), method="DOP853", rtol=1e-10,
+                    atol=1e-13, max_step=5e-4, dense_output=True)  # fmt: skip
+    t = np.arange(0.0, t_end + 1e-9, 2.5e-4)
+    u = sol.sol(t)[:n]
+    fc = np.array([forces(u[:, j])[1] for j in range(t.size)]).T
+    shear = np.array(
+        [
+            SHARE * k1 / xi[0] * u[n1],
+            SHARE * k1 / (1 - xi[0]) * (u[b1] - u[n1]),
+            SHARE * k2 / xi[1] * (u[n2] - u[b1]),
+            SHARE * k2 / (1 - xi[1]) * (u[b2] - u[n2]),
+        ]
+    )
+    return dict(
+        displacement=np.abs(u[:5]).max(axis=1),
+        node=np.abs(u[5:]).max(axis=1),
+        force=fc.max(axis=1),
+        shear=np.abs(shear).max(axis=1).reshape(2, 2),
+    )
+
+
+@pytest.mark.parametrize("method", ["newmark", "ivp"])
+def test_three_vs_two_story_mid_story_impacts_match_an_independent_ivp(method):
+    gm = sine_pulse(amplitude=0.4 * G, period=0.5, duration=2.5, dt=0.005)
+    ref = _reference(gm, 2.5)
+    ds = simulate(_row(), gm, method=method, output_dt=2.5e-4)
+    assert ref["force"][:2].min() > 1e5  # both columns are struck
+    tol = 1e-4  # measured: 4e-6 (peak forces), both paths
+    peak = ds.peak_displacement
+    np.testing.assert_allclose(peak.sel(building="A")[:3], ref["displacement"][:3], rtol=tol)
+    np.testing.assert_allclose(peak.sel(building="B")[:2], ref["displacement"][3:], rtol=tol)
+    np.testing.assert_allclose(ds.peak_column_displacement, ref["node"], rtol=tol)
+    np.testing.assert_allclose(ds.peak_contact_force, ref["force"], rtol=tol)
+    # column shears from the output samples (the reference's too, on the same 0.25 ms grid)
+    shear = np.abs(ds.column_shear).max("time").values
+    np.testing.assert_allclose(shear, ref["shear"], rtol=tol)
+    energy = ds.energy.isel(time=-1).to_series()
+    assert abs(energy.drop(["input"]).sum() - energy["input"]) < 1e-3 * energy["input"]
+
+
+def test_column_capacity_is_flagged_when_the_struck_segment_exceeds_it():
+    gm = sine_pulse(amplitude=0.4 * G, period=0.5, duration=2.5, dt=0.005)
+    ds = simulate(_row(column_capacity=1.0e5), gm)
+    assert ds.column_capacity.attrs["units"] == "N"
+    assert ds.column_capacity_exceeded.values.all()
+    peak = ds.peak_column_shear.values
+    assert np.all(peak > 1.0e5)
+    summary = ds.pounding.summary()
+    assert len(summary["columns"]) == 2 and all(c["exceeded"] for c in summary["columns"])
+    assert any("column" in w and "capacity" in w for w in summary["warnings"])
+
+
+def test_mid_story_in_a_case_file():
+    spec = {
+        "building": [
+            {"name": "A", "n_floors": 3, "period": 0.35, "mass": 3e5, "height": 3.0},
+            {"name": "B", "n_floors": 2, "period": 0.3, "mass": 4e5, "height": 4.5},
+        ],
+        "contact": [{"left": "A", "right": "B", "gap": 0.005, "law": "hertz", "k": 2e9,
+                     "floors": "elevation", "column_share": 0.5, "column_mass": 5e3,
+                     "column_capacity": 2e6}],
+        "ground_motion": {"type": "sine_pulse", "amplitude": 3.0, "period": 0.5},
+    }  # fmt: skip
+    case = case_from_dict(spec)
+    assert len(case.system.columns) == 2
+    bad = {**spec["contact"][0], "column_share": 1.5}
+    with pytest.raises(CaseError, match="column_share"):
+        case_from_dict({**spec, "contact": [bad]})
+
+
+def test_mid_story_errors_name_the_field():
+    a = ShearBuilding.uniform("A", 3, period=0.35, mass=3.0e5, height=3.0)
+    b = ShearBuilding.uniform("B", 2, period=0.3, mass=4.0e5, height=4.5)
+    with pytest.raises(PoundingInputError, match="column_share"):
+        Contact("A", "B", gap=0.01, k=1e9, floors="elevation", column_share=0.0)
+    with pytest.raises(PoundingInputError, match="elevation"):
+        assemble([a], [Contact("A", "wall", gap=0.01, k=1e9, floors="elevation")])
+    with pytest.raises(PoundingInputError, match="column"):
+        Contact("A", "B", gap=0.01, k=1e9, floors="common", column_capacity=1e6)
+    # the default column mass: a share of the struck story's floor mass
+    system = assemble([a, b], [Contact("A", "B", gap=0.01, k=1e9, floors="elevation")])
+    assert system.columns.mass[0] == pytest.approx(0.02 * 4.0e5)
+    assert math.isfinite(system.shortest_period())
+
+
+def test_floor_to_column_example_runs_prints_and_reports_the_columns(tmp_path):
+    from pathlib import Path
+
+    from typer.testing import CliRunner
+
+    from pounding.case import load_case
+    from pounding.cli import app
+    from pounding.report import build_report
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "floor_to_column.toml"
+    res = CliRunner().invoke(app, ["run", str(example), "-o", str(tmp_path / "r.nc")])
+    assert res.exit_code == 0, res.output
+    assert "A:2      B:c2" in res.output
+    assert "B story 1 at 3 m: peak shear" in res.output and "EXCEEDED" in res.output
+    case = load_case(example)
+    ds = simulate(case, duration=2.0)
+    report = build_report(ds)
+    titles = [s.title for s in report.sections]
+    table, _plot = report.sections[titles.index("Floor-to-column impacts")].blocks
+    assert [row[:2] for row in table.rows] == [["B", "1"], ["B", "2"], ["B", "3"]]
+    assert [row[3] for row in table.rows] == ["0.75", "0.5", "0.25"]
