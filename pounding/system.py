@@ -51,9 +51,9 @@ neighbour's column between its floors (:func:`_elevation_pairs`). The struck sto
 the impact point, at ξ = a/h_j above its lower floor (η = 1 − ξ), a degree of freedom after the
 building's floors (:class:`ColumnNodes`). Only the struck column line, a share k_c = s k_j of the
 story's stiffness, is split (the hit column of Karayannis & Favvata 2005, Earthquake Eng. Struct.
-Dyn. 34(1), 1-20, in the shear idealisation of a column between rigid floors): k_j − k_c stays floor to floor, k_c/ξ joins the lower floor to the
-node and k_c/η the node to the upper floor, in series k_c, so the story's lateral stiffness is
-unchanged while nothing strikes it (the node's static condensation gives back K). With the floors
+Dyn. 34(1), 1-20, in the shear idealisation of a column between rigid floors): k_j − k_c stays
+floor to floor, k_c/ξ joins the lower floor to the node and k_c/η the node to the upper floor, in
+series k_c, so the story's lateral stiffness is unchanged while nothing strikes it (the node's static condensation gives back K). With the floors
 held, a force F at the node meets the local stiffness k_c/(ξη) and reactions ηF below, ξF above.
 The node carries a share of the column's mass (``column_mass``) and, with Rayleigh damping, the
 same a0 m + a1 k damping as the rest of the building.
