@@ -265,3 +265,28 @@ def test_floor_to_column_example_runs_prints_and_reports_the_columns(tmp_path):
     table, _plot = report.sections[titles.index("Floor-to-column impacts")].blocks
     assert [row[:2] for row in table.rows] == [["B", "1"], ["B", "2"], ["B", "3"]]
     assert [row[3] for row in table.rows] == ["0.75", "0.5", "0.25"]
+
+
+def test_a_study_sweeps_the_column_share_and_keeps_each_struck_columns_peak_shear(tmp_path):
+    from pounding.studies import run_study
+    from pounding.studies.spec import study_from_dict
+
+    spec = {
+        "building": [
+            {"name": "A", "n_floors": 3, "period": 0.35, "mass": 3e5, "height": 3.0},
+            {"name": "B", "n_floors": 2, "period": 0.3, "mass": 4e5, "height": 4.5},
+        ],
+        "contact": [{"left": "A", "right": "B", "gap": 0.005, "law": "hertz", "k": 2e9,
+                     "floors": "elevation", "column_mass": 5e3}],
+        "ground_motion": {"type": "sine_pulse", "amplitude": 3.9, "period": 0.5,
+                          "duration": 2.0},
+        "study": {"contact.0.column_share": [0.25, 0.5]},
+    }  # fmt: skip
+    ds = run_study(study_from_dict(spec), tmp_path / "s.nc", jobs=1)
+    shear = ds["peak_column_shear"]
+    assert shear.attrs["units"] == "N"
+    values = shear.sel({"contact.0.column_share": 0.5}).values.ravel()
+    assert np.isfinite(values[:2]).all() and np.isnan(values[2])  # two columns, then B's roof
+    assert float(shear.sel({"contact.0.column_share": 0.5}).max()) > float(
+        shear.sel({"contact.0.column_share": 0.25}).max()
+    )

@@ -326,3 +326,9 @@ def test_a_study_sweeps_the_soils_shear_wave_velocity(tmp_path):
     assert list(ds[axis].values) == [100.0, 400.0]
     peak = ds["peak_displacement"].sel(building="B").max("floor")
     assert float(peak.sel({axis: 100.0}).max()) > float(peak.sel({axis: 400.0}).max())
+    rocking = ds["peak_foundation_rocking"]
+    assert rocking.attrs["units"] == "rad"
+    assert np.isnan(rocking.sel(building="A")).all()
+    assert float(rocking.sel(building="B", **{axis: 100.0}).max()) > float(
+        rocking.sel(building="B", **{axis: 400.0}).max()
+    )

@@ -77,6 +77,17 @@ SUMMARY: dict[str, tuple[tuple[str, ...], str, str]] = {
     "fundamental_period": (("building",), "s", "fundamental period (contacts open)"),
     "hysteretic_dissipated_energy": ((), "J", "energy dissipated by the yielding stories"),
     "collapse_time": (("building",), "s", ATTRS["collapse_time"]["long_name"]),
+    "peak_column_shear": (
+        ("contact",),
+        "N",
+        "peak shear of the column a contact strikes between floors (NaN: it strikes a floor)",
+    ),
+    "peak_foundation_sway": (("building",), "m", ATTRS["peak_foundation_sway"]["long_name"]),
+    "peak_foundation_rocking": (
+        ("building",),
+        "rad",
+        ATTRS["peak_foundation_rocking"]["long_name"],
+    ),
 }
 # Peaks whose ratio to the no-contact run is reported: summary name -> (study name, long_name).
 _AMPLIFIED = {
@@ -93,6 +104,19 @@ _AMPLIFIED = {
         "peak absolute floor acceleration with contact / without (building maximum)",
     ),
 }
+
+
+def _struck_column_shear(var: Any, n_el: int) -> np.ndarray:
+    """Per contact, the peak shear of the column it strikes between floors, NaN for a floor."""
+    out = np.full(n_el, np.nan)
+    if "peak_column_shear" not in var:
+        return out
+    peak = var["peak_column_shear"].values
+    for side in ("left", "right"):
+        column = var[f"contact_{side}_column"].values
+        hit = column >= 0
+        out[hit] = peak[column[hit]]
+    return out
 
 
 def run_summary(ds: xr.Dataset) -> xr.Dataset:
@@ -127,6 +151,11 @@ def run_summary(ds: xr.Dataset) -> xr.Dataset:
         "fundamental_period": var["natural_period"].values[:, 0],
         "hysteretic_dissipated_energy": final[terms.index("hysteretic")],
         "collapse_time": var["collapse_time"].values,
+        "peak_column_shear": _struck_column_shear(var, n_el),
+        **{
+            name: var[name].values if name in var else np.full(ds.sizes["building"], np.nan)
+            for name in ("peak_foundation_sway", "peak_foundation_rocking")
+        },
     }
     data = {
         name: (
