@@ -439,11 +439,6 @@ class ShearBuilding:
                 f"{where}: story {i + 1} is unstable under its own gravity load with p_delta: "
                 f"θ = P/(k h) = {theta[i]:.3g} ≥ 1; stiffen it or lighten the floors above"
             )
-        if self.soil is not None and self.stories.yielding:
-            raise PoundingInputError(
-                f"{where}: yielding stories ({self.stories.model!r}) on a flexible base (soil) are "
-                "not supported yet; allowed with soil: elastic stories (with or without p_delta)"
-            )
         if self.stories.yielding:  # per-story parameters checked now, before any analysis
             self.story_parameters()
             self.stories.ultimate_drift(n, where)

@@ -461,8 +461,9 @@ class StoryElements:
     """Yielding stories (:mod:`pounding.stories`) in the arrays the integrators use, one row per
     story of every building with a hysteretic model (S in all).
 
-    ``dof`` = (floor, the dof below: floor, base slab or −1 for the ground), ``sign`` (+1, −1; 0
-    for the ground) so that δ = u_floor − u_below is the drift; ``law_id`` story-model kernel ids;
+    ``dof`` = (floor, the dof below: floor, base slab or −1 for the ground[, the rocking dof]),
+    ``sign`` (+1, −1; 0 for the ground[, −h]) so that δ = u_floor − u_below [− h θ] is the drift (the
+    third column only when a building with yielding stories rocks on soil); ``law_id`` story-model kernel ids;
     ``params`` (S × :data:`pounding.stories.N_STORY_PARAMS`: k, F_y, model parameters). Labels:
     ``building`` index, ``story`` number (1 = lowest), ``model`` registry names; ``ultimate`` the
     drift capacity δ_u [m] (NaN when not given) and ``park_ang_beta`` per row.
@@ -1015,6 +1016,7 @@ def _story_elements(
 ) -> StoryElements:
     """One row per story of every building with a yielding story model."""
     parts = []
+    rocking = any(b.stories.yielding and b.flexible_base for b in buildings)
     for i, (b, o) in enumerate(zip(buildings, offsets, strict=True)):
         if not b.stories.yielding:
             continue
@@ -1022,10 +1024,15 @@ def _story_elements(
         floor = o + np.arange(n)
         under = below[floor]
         ultimate = b.stories.ultimate_drift(n, f"building {b.name!r}")
+        dof = [floor, under]
+        sign = [np.ones(n), np.where(under >= 0, -1.0, 0.0)]
+        if rocking:  # the foundation's rocking dof (o − 1) tilts each story by h θ
+            dof.append(np.full(n, o - 1 if b.flexible_base else -1))
+            sign.append(-b.heights if b.flexible_base else np.zeros(n))
         parts.append(
             (
-                np.column_stack((floor, under)),
-                np.column_stack((np.ones(n), np.where(under >= 0, -1.0, 0.0))),
+                np.column_stack(dof),
+                np.column_stack(sign),
                 np.full(n, STORY_MODELS[b.stories.model].kernel_id),
                 b.story_parameters(),
                 np.full(n, i),

@@ -41,7 +41,7 @@ def gather(dof, sign, c, u, v):
     """s_a u_a + s_b u_b and its rate for row c of (dof, sign); a dof of −1 is fixed ground."""
     d = 0.0
     dd = 0.0
-    for s in range(2):
+    for s in range(dof.shape[1]):
         i = dof[c, s]
         if i >= 0:
             d += sign[c, s] * u[i]
@@ -157,12 +157,12 @@ def add_forces(r, scale, gaps, f_gaps, el, f_el):
     for c in range(f_gaps.size):
         fc = f_gaps[c]
         if fc != 0.0:
-            for s in range(2):
+            for s in range(gaps.dof.shape[1]):
                 i = gaps.dof[c, s]
                 if i >= 0:
                     r[i] += scale * gaps.sign[c, s] * fc
     for e in range(f_el.size):
-        for s in range(2):
+        for s in range(el.dof.shape[1]):
             i = el.dof[e, s]
             if i >= 0:
                 r[i] += scale * el.sign[e, s] * f_el[e]
@@ -215,11 +215,11 @@ def band_rows_into(el, first, kc, bw, Jb):
         b = el.dof[e, 1]
         if k == 0.0 or (a >= 0 and b >= 0 and abs(a - b) > bw):
             continue
-        for s in range(2):
+        for s in range(el.dof.shape[1]):
             i = el.dof[e, s]
             if i < 0:
                 continue
-            for r in range(2):
+            for r in range(el.dof.shape[1]):
                 j = el.dof[e, r]
                 if j >= 0:
                     Jb[i, j - i + bw] += k * el.sign[e, s] * el.sign[e, r]
@@ -231,11 +231,11 @@ def add_row_tangent(x_dof, x_sign, kc, J):
     """J += Σ kc_c b_c b_cᵀ over the finite rows (a stuck slab's infinite row is a constraint)."""
     for c in range(kc.size):
         if kc[c] != 0.0 and not math.isinf(kc[c]):
-            for s in range(2):
+            for s in range(x_dof.shape[1]):
                 i = x_dof[c, s]
                 if i < 0:
                     continue
-                for r in range(2):
+                for r in range(x_dof.shape[1]):
                     j = x_dof[c, r]
                     if j >= 0:
                         J[i, j] += kc[c] * x_sign[c, s] * x_sign[c, r]

@@ -248,14 +248,14 @@ def woodbury_band_solve(L, D, bw, R, x_dof, x_sign, kc, Zr, have, S, y, x, e):
         m += 1
         if have[c]:
             continue
-        for s in range(2):
+        for s in range(x_dof.shape[1]):
             k = x_dof[c, s]
             if k >= 0:
                 e[k] += x_sign[c, s]
         band_solve(L, D, bw, e, x)
         for i in range(n):
             Zr[i, c] = x[i]
-        for s in range(2):
+        for s in range(x_dof.shape[1]):
             k = x_dof[c, s]
             if k >= 0:
                 e[k] = 0.0
@@ -280,14 +280,14 @@ def _woodbury_correct(n, x_dof, x_sign, kc, Zr, S, y, x, m):
             if kc[c2] == 0.0:
                 continue
             acc = 0.0
-            for s in range(2):
+            for s in range(x_dof.shape[1]):
                 k = x_dof[c, s]
                 if k >= 0:
                     acc += x_sign[c, s] * Zr[k, c2]
             S[r, q] = acc + (1.0 / kc[c] if r == q else 0.0)
             q += 1
         acc = 0.0
-        for s in range(2):
+        for s in range(x_dof.shape[1]):
             k = x_dof[c, s]
             if k >= 0:
                 acc += x_sign[c, s] * y[k]
@@ -311,7 +311,7 @@ def inverse_column(J_inv, dof, sign, c, Z):
     """Z[:, c] = J⁻¹ b_c, b_c the signs of row c at its dofs (a dof of −1 is the ground)."""
     for i in range(J_inv.shape[0]):
         z = 0.0
-        for s in range(2):
+        for s in range(dof.shape[1]):
             k = dof[c, s]
             if k >= 0:
                 z += J_inv[i, k] * sign[c, s]

@@ -139,7 +139,7 @@ def hold_elements(md, fac, cf, h, el, tr, lin):
         f = el.f0[e]
         if f != 0.0:
             loaded = True
-            for s in range(2):
+            for s in range(el.dof.shape[1]):
                 i = el.dof[e, s]
                 if i >= 0:
                     rhs[i] -= el.sign[e, s] * f
@@ -220,7 +220,7 @@ def condense_map(J_inv, dof, sign, Z, S):
     for r in range(n_el):
         for c in range(n_el):
             acc = 0.0
-            for s in range(2):
+            for s in range(dof.shape[1]):
                 k = dof[r, s]
                 if k >= 0:
                     acc += sign[r, s] * Z[k, c]
@@ -508,11 +508,11 @@ def stick_force(b, g1, md, u1, v1, gaps, f1, el):
     for j in range(u1.size):
         p -= md.C[b, j] * v1[j] + md.K[b, j] * u1[j]
     for c in range(f1.size):
-        for s in range(2):
+        for s in range(gaps.dof.shape[1]):
             if gaps.dof[c, s] == b:
                 p -= gaps.sign[c, s] * f1[c]
     for e in range(el.kind.size):
-        for s in range(2):
+        for s in range(el.dof.shape[1]):
             if el.dof[e, s] == b:
                 p -= el.sign[e, s] * el.f1[e]
     return p

@@ -307,7 +307,7 @@ def _story_rhs(y, dy, n, i0, dof, sign, law, params, committed, trial, minv):
             )[0]
             dy[i0 + e] = 0.0
             dy[i0 + ns + e] = (corr + k * d) * dd / (fy * dy_)
-        for s in range(2):
+        for s in range(dof.shape[1]):
             i = dof[e, s]
             if i >= 0:
                 dy[n + i] -= minv[i] * sign[e, s] * corr
@@ -337,7 +337,7 @@ def _story_values(u: np.ndarray, ys: np.ndarray, model: _Model) -> tuple[np.ndar
     p = st.params
     k, fy, al = p[:, 0], p[:, 1], p[:, 2]
     d = np.zeros((u.shape[0], ns))
-    for s in range(2):
+    for s in range(st.sign.shape[1]):
         dof = st.dof[:, s]
         hit = dof >= 0
         d[:, hit] += st.sign[hit, s] * u[:, dof[hit]]
@@ -484,7 +484,7 @@ class _Model:
         """Story drifts [m] (or drift rates) of the yielding stories from floor values x."""
         st = self.stories
         out = np.zeros(self.ns)
-        for s in range(2):
+        for s in range(st.sign.shape[1]):
             hit = st.dof[:, s] >= 0
             out[hit] += st.sign[hit, s] * x[st.dof[hit, s]]
         return out
@@ -557,7 +557,7 @@ class _Model:
         if self.ns:
             st = self.stories
             story_force, corr, extra, e_h = _story_values(u, y[self.ist].T, self)
-            for s in range(2):
+            for s in range(st.dof.shape[1]):
                 dof = st.dof[:, s]
                 hit = dof >= 0
                 np.add.at(

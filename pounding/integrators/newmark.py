@@ -244,6 +244,7 @@ def element_families(system: PoundingSystem) -> ElementFamilyRows:
     the yielding stories; parameters and state as wide as the widest family."""
     families = ((FAMILY_LINK, system.links), (FAMILY_STORY, system.stories))
     width = max(N_LINK_PARAMS, N_STORY_PARAMS)
+    dofs = max(f.dof.shape[1] for _, f in families)  # a story on a rocking base has three
     params = np.zeros((sum(len(f) for _, f in families), width))
     row = 0
     for _, f in families:
@@ -252,11 +253,18 @@ def element_families(system: PoundingSystem) -> ElementFamilyRows:
     return ElementFamilyRows(
         kind=np.concatenate([np.full(len(f), kind, dtype=np.int64) for kind, f in families]),
         law=np.concatenate([f.law_id for _, f in families]).astype(np.int64),
-        dof=np.vstack([f.dof for _, f in families]).astype(np.int64),
-        sign=np.vstack([f.sign for _, f in families]),
+        dof=np.vstack([pad_rows(f.dof, dofs, -1) for _, f in families]).astype(np.int64),
+        sign=np.vstack([pad_rows(f.sign, dofs, 0.0) for _, f in families]),
         params=params,
         n_state=max(N_LINK_STATE, N_STORY_STATE),
     )
+
+
+def pad_rows(rows: np.ndarray, width: int, fill: float) -> np.ndarray:
+    """Element rows (dofs or signs) widened to ``width`` columns with ``fill`` (−1: no dof, 0)."""
+    out = np.full((rows.shape[0], width), fill, dtype=rows.dtype)
+    out[:, : rows.shape[1]] = rows
+    return out
 
 
 def collapse_drifts(system: PoundingSystem, limit: float) -> np.ndarray:
@@ -334,9 +342,12 @@ def integrate_newmark(
     families = element_families(system)
     # the rows of the Woodbury update: gaps, then one per friction element (its base dof, sign +1),
     # then the element families
-    x_dof = np.vstack((el.el_dof, np.column_stack((fr.fr_dof, -np.ones(n_fr, dtype=np.int64))),
+    w = families.dof.shape[1]
+    x_dof = np.vstack((pad_rows(el.el_dof, w, -1),
+                       pad_rows(np.column_stack((fr.fr_dof, -np.ones(n_fr, dtype=np.int64))), w, -1),
                        families.dof))  # fmt: skip
-    x_sign = np.vstack((el.el_sign, np.column_stack((np.ones(n_fr), np.zeros(n_fr))),
+    x_sign = np.vstack((pad_rows(el.el_sign, w, 0.0),
+                        pad_rows(np.column_stack((np.ones(n_fr), np.zeros(n_fr))), w, 0.0),
                         families.sign))  # fmt: skip
     sy = kn.System(_f64(system.mass), _f64(system.damping), _f64(system.stiffness),
                    _f64(system.influence), _i64(system.below), _i64(system.tilt),
