@@ -206,6 +206,11 @@ ATTRS: dict[str, dict[str, str]] = {
         "units": "N",
         "long_name": "peak absolute shear of the struck column, either segment (output steps)",
     },
+    "peak_struck_column_shear": {
+        "units": "N",
+        "long_name": "peak shear of the column a contact strikes between floors (NaN: it strikes a "
+        "floor)",
+    },
     "column_capacity": {
         "units": "N",
         "long_name": "shear capacity of the struck column segments (NaN: not given)",

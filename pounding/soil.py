@@ -45,6 +45,7 @@ import dataclasses
 import math
 
 from pounding.errors import PoundingInputError
+from pounding.validation import finite_number
 
 
 def footing_stiffness(
@@ -87,15 +88,8 @@ def flexible_base_period(
 
 
 def _positive(value: object, field: str, unit: str) -> float:
-    if isinstance(value, bool):
-        raise PoundingInputError(f"{field} = {value!r}; allowed: a positive number [{unit}]")
-    try:
-        x = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise PoundingInputError(
-            f"{field} = {value!r}; allowed: a positive number [{unit}]"
-        ) from None
-    if not (math.isfinite(x) and x > 0.0):
+    x = finite_number(value, field, unit)
+    if not x > 0.0:
         raise PoundingInputError(f"{field} = {value!r}; allowed: positive and finite [{unit}]")
     return x
 

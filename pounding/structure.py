@@ -38,6 +38,7 @@ from pounding.errors import PoundingInputError
 from pounding.soil import SoilFoundation
 from pounding.stories import Stories
 from pounding.units import G
+from pounding.validation import finite_number
 
 DEFAULT_STORY_HEIGHT = 3.0
 """Story height [m] used when a building gives none."""
@@ -226,7 +227,7 @@ class IsolationBase:
             raise PoundingInputError(
                 f"{where}: type = {type!r}; allowed: {', '.join(BEARING_TYPES)}"
             )
-        m = _number(mass, f"{where}: mass", "kg")
+        m = finite_number(mass, f"{where}: mass", "kg")
         if not m > 0.0:
             raise PoundingInputError(f"{where}: mass = {mass!r} kg; allowed: positive and finite")
         if type == "friction_pendulum":
@@ -234,7 +235,7 @@ class IsolationBase:
                 raise PoundingInputError(
                     f"{where}: radius [m] is required for a friction_pendulum (typical 1-4 m)"
                 )
-            radius = _number(radius, f"{where}: radius", "m")
+            radius = finite_number(radius, f"{where}: radius", "m")
             if not radius > 0.0:
                 raise PoundingInputError(
                     f"{where}: radius = {radius!r} m; allowed: positive and finite"
@@ -313,18 +314,6 @@ class IsolationBase:
         if self.radius is not None:
             out["radius"] = self.radius
         return {**out, **self.parameters, **(self.bouc_wen or {})}
-
-
-def _number(value: object, field: str, unit: str) -> float:
-    if isinstance(value, bool):
-        raise PoundingInputError(f"{field} = {value!r}; allowed: a number [{unit}]")
-    try:
-        x = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise PoundingInputError(f"{field} = {value!r}; allowed: a number [{unit}]") from None
-    if not math.isfinite(x):
-        raise PoundingInputError(f"{field} = {value!r}; allowed: a finite number [{unit}]")
-    return x
 
 
 _FIELD_UNITS = {"masses": "kg", "stiffnesses": "N/m", "heights": "m"}

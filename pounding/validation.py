@@ -20,6 +20,19 @@ from pounding.errors import PoundingInputError
 KINDS = ("number", "integer", "bool", "string", "numbers", "integers", "table", "any")
 
 
+def finite_number(value: object, field: str, unit: str) -> float:
+    """``value`` as a finite float, else :class:`PoundingInputError` naming ``field`` and its unit."""
+    if isinstance(value, bool):
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a number [{unit}]")
+    try:
+        x = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a number [{unit}]") from None
+    if not math.isfinite(x):
+        raise PoundingInputError(f"{field} = {value!r}; allowed: a finite number [{unit}]")
+    return x
+
+
 @dataclasses.dataclass(frozen=True)
 class Key:
     """One key of an input table.

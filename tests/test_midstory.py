@@ -283,7 +283,7 @@ def test_a_study_sweeps_the_column_share_and_keeps_each_struck_columns_peak_shea
         "study": {"contact.0.column_share": [0.25, 0.5]},
     }  # fmt: skip
     ds = run_study(study_from_dict(spec), tmp_path / "s.nc", jobs=1)
-    shear = ds["peak_column_shear"]
+    shear = ds["peak_struck_column_shear"]
     assert shear.attrs["units"] == "N"
     values = shear.sel({"contact.0.column_share": 0.5}).values.ravel()
     assert np.isfinite(values[:2]).all() and np.isnan(values[2])  # two columns, then B's roof

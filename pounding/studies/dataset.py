@@ -77,10 +77,10 @@ SUMMARY: dict[str, tuple[tuple[str, ...], str, str]] = {
     "fundamental_period": (("building",), "s", "fundamental period (contacts open)"),
     "hysteretic_dissipated_energy": ((), "J", "energy dissipated by the yielding stories"),
     "collapse_time": (("building",), "s", ATTRS["collapse_time"]["long_name"]),
-    "peak_column_shear": (
+    "peak_struck_column_shear": (
         ("contact",),
         "N",
-        "peak shear of the column a contact strikes between floors (NaN: it strikes a floor)",
+        ATTRS["peak_struck_column_shear"]["long_name"],
     ),
     "peak_foundation_sway": (("building",), "m", ATTRS["peak_foundation_sway"]["long_name"]),
     "peak_foundation_rocking": (
@@ -151,7 +151,7 @@ def run_summary(ds: xr.Dataset) -> xr.Dataset:
         "fundamental_period": var["natural_period"].values[:, 0],
         "hysteretic_dissipated_energy": final[terms.index("hysteretic")],
         "collapse_time": var["collapse_time"].values,
-        "peak_column_shear": _struck_column_shear(var, n_el),
+        "peak_struck_column_shear": _struck_column_shear(var, n_el),
         **{
             name: var[name].values if name in var else np.full(ds.sizes["building"], np.nan)
             for name in ("peak_foundation_sway", "peak_foundation_rocking")
