@@ -776,10 +776,19 @@ def _column_variables(system: PoundingSystem, raw: RawResult) -> dict[str, tuple
     for q in range(len(col)):
         above = system.dof(int(col.building[q]), int(col.story[q]))
         upper[:, q] = drift[:, above] - lower[:, q]  # the story's deformation less the lower part
-    shear = np.stack((col.k_below * lower, col.k_above * upper), axis=-1)
-    peak = _abs_max(shear.reshape(shear.shape[0], -1)).reshape(len(col), 2).max(axis=1)
     k_c = col.k_below * col.xi
-    share = _abs_max(k_c * (lower + upper))  # the column's part of the story's spring force
+    story = k_c * (lower + upper)  # the column's part of the story's spring force
+    hysteretic = np.zeros_like(lower)  # its share of a yielding story's F − k δ (on the chord)
+    st = system.stories
+    for q in range(len(col)):
+        row = np.flatnonzero((st.building == col.building[q]) & (st.story == col.story[q]))
+        if row.size and raw.story_force is not None:
+            k = float(st.params[row[0], 0])
+            chord = lower[:, q] + upper[:, q]
+            hysteretic[:, q] = col.share[q] * (raw.story_force[:, row[0]] - k * chord)
+    shear = np.stack((col.k_below * lower + hysteretic, col.k_above * upper + hysteretic), axis=-1)
+    peak = _abs_max(shear.reshape(shear.shape[0], -1)).reshape(len(col), 2).max(axis=1)
+    share = _abs_max(story + hysteretic)
     with np.errstate(invalid="ignore"):
         exceeded = (peak > col.capacity).astype(np.int8)
     return {

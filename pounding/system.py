@@ -56,7 +56,9 @@ floor to floor, k_c/ξ joins the lower floor to the node and k_c/η the node to 
 series k_c, so the story's lateral stiffness is unchanged while nothing strikes it (the node's static condensation gives back K). With the floors
 held, a force F at the node meets the local stiffness k_c/(ξη) and reactions ηF below, ξF above.
 The node carries a share of the column's mass (``column_mass``) and, with Rayleigh damping, the
-same a0 m + a1 k damping as the rest of the building.
+same a0 m + a1 k damping as the rest of the building. A yielding story yields on its chord drift
+(floor to floor) as without the node, and the struck column carries its share s of that hysteretic
+force: the column's local deformation between its floors stays elastic.
 """
 
 from __future__ import annotations
@@ -955,12 +957,6 @@ def _column_node(
             f"{where}: story {story} of {building.name!r} is struck at {xi * h:.3g} m and at "
             f"{node['xi'] * h:.3g} m above its lower floor; allowed: one impact point per story "
             "(a larger level_tolerance merges them with a floor)"
-        )
-    if building.stories.yielding:
-        raise PoundingInputError(
-            f"{where}: the column of story {story} of {building.name!r} is struck between floors, "
-            f"but its stories yield ({building.stories.model!r}); floor-to-column impacts are "
-            "supported on elastic stories only (with or without p_delta)"
         )
     share = 1.0 if contact.column_share is None else float(contact.column_share)
     mass = contact.column_mass
