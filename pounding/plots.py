@@ -150,10 +150,18 @@ def response_spectra(spectra: xr.Dataset, periods: dict[str, float] | None = Non
 # --------------------------------------------------------------------------------------------------
 
 
+def contact_end(ds: xr.Dataset, c: int, side: str) -> str:
+    """ "B:2" for floor 2 of B at one end of contact c, "B:c2" for the column of B's story 2 struck
+    between floors."""
+    sel = ds.sel(contact=c)
+    column = f"contact_{side}_column"
+    struck = column in ds.coords and int(sel[column]) >= 0
+    return f"{sel[f'contact_{side}'].item()}:{'c' if struck else ''}{int(sel[f'contact_{side}_floor'])}"
+
+
 def _contact_name(ds: xr.Dataset, c: int) -> str:
     sel = ds.sel(contact=c)
-    text = f"{sel['contact_left'].item()}:{int(sel['contact_left_floor'])}–"
-    text += f"{sel['contact_right'].item()}:{int(sel['contact_right_floor'])}"
+    text = f"{contact_end(ds, c, 'left')}–{contact_end(ds, c, 'right')}"
     if "contact_law" in ds.coords:
         text += f" ({sel['contact_law'].item()})"
     return plain_text(text)

@@ -312,6 +312,9 @@ def test_floor_to_column_example_runs_prints_and_reports_the_columns(tmp_path):
     table, _plot = report.sections[titles.index("Floor-to-column impacts")].blocks
     assert [row[:2] for row in table.rows] == [["B", "1"], ["B", "2"], ["B", "3"]]
     assert [row[3] for row in table.rows] == ["0.75", "0.5", "0.25"]
+    from pounding.report import render_html
+
+    assert "B:c1" in render_html(report)  # the contact tables name the struck column
 
 
 def test_a_study_sweeps_the_column_share_and_keeps_each_struck_columns_peak_shear(tmp_path):

@@ -76,8 +76,8 @@ def _contacts_table(ds: xr.Dataset) -> Table:
         rows.append(
             [
                 str(int(c)),
-                f"{sel['contact_left'].item()}:{int(sel['contact_left_floor'])}",
-                f"{sel['contact_right'].item()}:{int(sel['contact_right_floor'])}",
+                plots.contact_end(ds, c, "left"),
+                plots.contact_end(ds, c, "right"),
                 str(sel["contact_law"].item()),
                 _g(float(sel["contact_gap"]) * 1e3, 4),
                 str(int(sel["impact_count"])),

@@ -421,6 +421,11 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
             ("contact_right", np.array(el.right, dtype=object).astype(str)),
             ("contact_left_floor", el.left_floor),
             ("contact_right_floor", el.right_floor),
+            *(
+                (("contact_left_column", el.left_column), ("contact_right_column", el.right_column))
+                if len(study.case.system.columns)
+                else ()
+            ),
         ):
             coords[name] = ("contact", values, ATTRS[name])
     ds = xr.Dataset({k: (v[0], v[1]) for k, v in data.items()}, coords=coords)
