@@ -9,6 +9,7 @@ import os
 import platform
 import statistics
 import subprocess
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -144,3 +145,26 @@ def fmt_time(seconds: float) -> str:
     if seconds < 1.0:
         return f"{seconds * 1e3:.1f} ms"
     return f"{seconds:.2f} s"
+
+
+def finish_per_step(
+    script: str,
+    rows: dict[str, dict[str, Any]],
+    base: str,
+    ratio_key: str,
+    record: Any,
+    dt: float,
+    argv: list[str] | None,
+    quick: bool,
+) -> Path:
+    """Each row's µs/step over the ``base`` row's as ``ratio_key``, the machine, and the JSON of a
+    per-step cost benchmark (``script`` names it and the file)."""
+    for label in rows:
+        rows[label][ratio_key] = rows[label]["us_per_step"] / rows[base]["us_per_step"]
+    info = machine()
+    print(machine_markdown(info))
+    payload = {"command": " ".join([f"python benchmarks/{script}.py", *(argv or sys.argv[1:])]),
+               "record": record, "dt": dt, "machine": info, "rows": rows}  # fmt: skip
+    path = write_json(f"{script}.json", payload, out_dirs(quick)[0])
+    print(f"wrote {path}")
+    return path

@@ -15,7 +15,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import fixed_step, machine, machine_markdown, median_time, out_dirs, write_json  # noqa: E402
+from _common import finish_per_step, fixed_step, median_time  # noqa: E402
 from models import DURATION, build, record  # noqa: E402
 
 from pounding import Link, SoilFoundation, assemble  # noqa: E402
@@ -77,15 +77,8 @@ def main(argv: list[str] | None = None) -> int:
         }
         print(f"{label:40s} {rows[label]['us_per_step']:6.2f} µs/step  ({seconds:.3f} s, "
               f"{rows[label]['impacts']} impacts)")  # fmt: skip
-    first = next(iter(rows))
-    for label in rows:
-        rows[label]["ratio_to_bare_gap"] = rows[label]["us_per_step"] / rows[first]["us_per_step"]
-    info = machine()
-    print(machine_markdown(info))
-    payload = {"command": " ".join(["python benchmarks/mitigation_cost.py", *(argv or sys.argv[1:])]),
-               "record": rec, "dt": args.dt, "machine": info, "rows": rows}  # fmt: skip
-    path = write_json("mitigation_cost.json", payload, out_dirs(args.quick)[0])
-    print(f"wrote {path}")
+    finish_per_step("mitigation_cost", rows, next(iter(rows)), "ratio_to_bare_gap", rec, args.dt,
+                    argv, args.quick)  # fmt: skip
     return 0
 
 

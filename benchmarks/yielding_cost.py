@@ -28,14 +28,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _common import (  # noqa: E402
-    fixed_step,
-    machine,
-    machine_markdown,
-    median_time,
-    out_dirs,
-    write_json,
-)
+from _common import finish_per_step, fixed_step, median_time  # noqa: E402
 from models import DURATION, build, record  # noqa: E402
 
 from pounding import Stories, assemble  # noqa: E402
@@ -91,16 +84,8 @@ def main(argv: list[str] | None = None) -> int:
             f"({seconds:.3f} s, {rows[label]['newton_iterations']} Newton iterations, "
             f"peak story ductility {rows[label]['peak_ductility']})"
         )
-    for label in rows:
-        rows[label]["ratio_to_elastic"] = (
-            rows[label]["us_per_step"] / rows["elastic"]["us_per_step"]
-        )
-    info = machine()
-    print(machine_markdown(info))
-    payload = {"command": " ".join(["python benchmarks/yielding_cost.py", *(argv or sys.argv[1:])]),
-               "record": rec, "dt": args.dt, "machine": info, "rows": rows}  # fmt: skip
-    path = write_json("yielding_cost.json", payload, out_dirs(args.quick)[0])
-    print(f"wrote {path}")
+    finish_per_step("yielding_cost", rows, "elastic", "ratio_to_elastic", rec, args.dt, argv,
+                    args.quick)  # fmt: skip
     return 0
 
 

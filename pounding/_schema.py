@@ -21,7 +21,7 @@ from pounding.ground_motion import GroundMotion
 from pounding.integrators.base import ENERGY_TERMS, RawResult
 from pounding.stories import park_ang
 from pounding.structure import reference_floors
-from pounding.system import PoundingSystem
+from pounding.system import PoundingSystem, end_label
 
 #: CF-style attributes of every variable and coordinate the schema defines.
 ATTRS: dict[str, dict[str, str]] = {
@@ -956,9 +956,8 @@ def summary(variables: Mapping[str, tuple[tuple[str, ...], Any, Any]], attrs: Ma
     columns = "contact_left_column" in variables
 
     def end(side: str, j: int) -> str:
-        # "B:2" a floor, "B:c2" the column of story 2 struck between floors
-        struck = columns and int(val(f"contact_{side}_column")[j]) >= 0
-        return f"{val(f'contact_{side}')[j]}:{'c' if struck else ''}{int(val(f'contact_{side}_floor')[j])}"
+        column = int(val(f"contact_{side}_column")[j]) if columns else -1
+        return end_label(str(val(f"contact_{side}")[j]), val(f"contact_{side}_floor")[j], column)
 
     for j, c in enumerate(val("contact")):
         out["contacts"].append(

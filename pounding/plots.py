@@ -153,10 +153,12 @@ def response_spectra(spectra: xr.Dataset, periods: dict[str, float] | None = Non
 def contact_end(ds: xr.Dataset, c: int, side: str) -> str:
     """ "B:2" for floor 2 of B at one end of contact c, "B:c2" for the column of B's story 2 struck
     between floors."""
+    from pounding.system import end_label  # only for this label: plots otherwise reads Datasets
+
     sel = ds.sel(contact=c)
     column = f"contact_{side}_column"
-    struck = column in ds.coords and int(sel[column]) >= 0
-    return f"{sel[f'contact_{side}'].item()}:{'c' if struck else ''}{int(sel[f'contact_{side}_floor'])}"
+    struck = int(sel[column]) if column in ds.coords else -1
+    return end_label(str(sel[f"contact_{side}"].item()), int(sel[f"contact_{side}_floor"]), struck)
 
 
 def _contact_name(ds: xr.Dataset, c: int) -> str:

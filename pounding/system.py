@@ -174,6 +174,11 @@ class Contact:
         return (self.thickness, self.k_rubber, self.e_rubber, self.crush)  # type: ignore[return-value]
 
     @property
+    def slab_tolerance(self) -> float:
+        """Distance [m] within which a slab is level with a floor (``level_tolerance`` or 0.1)."""
+        return LEVEL_TOLERANCE_DEFAULT if self.level_tolerance is None else self.level_tolerance
+
+    @property
     def element_gap(self) -> float:
         """The gap [m] the elements close before any force acts: the clear gap less a bumper."""
         if self.filler is not None:
@@ -625,6 +630,12 @@ def _block_diag(blocks: Sequence[np.ndarray]) -> np.ndarray:
     return out
 
 
+def end_label(building: str, floor: int, column: int = -1) -> str:
+    """A contact end as printed: "B:2" for floor 2 of B (a wall's floor is 0), "B:c2" for the column
+    of B's story 2 struck between floors (``column`` >= 0)."""
+    return f"{building}:{'c' if column >= 0 else ''}{int(floor)}"
+
+
 def _check_floor(where: str, f: Any, b: ShearBuilding) -> int:
     """A floor number of building b (0 = its base slab when isolated), validated."""
     lowest = BASE_FLOOR if b.isolated else 1
@@ -909,7 +920,7 @@ def _elevation_pairs(
             f"{where}: floors = 'elevation' pairs the floors of two buildings; allowed with a "
             "wall: 'all' or a list of floors"
         )
-    tol = LEVEL_TOLERANCE_DEFAULT if contact.level_tolerance is None else contact.level_tolerance
+    tol = contact.slab_tolerance
     striking_left = float(np.mean(left.heights)) <= float(np.mean(right.heights))
     s, other = (left, right) if striking_left else (right, left)
     side = "right" if striking_left else "left"
@@ -947,7 +958,7 @@ def _column_node(
 ) -> int:
     """Index in ``nodes`` of the impact node at ξ of ``story`` (added if new); one node per story."""
     h = float(building.heights[story - 1])
-    tol = LEVEL_TOLERANCE_DEFAULT if contact.level_tolerance is None else contact.level_tolerance
+    tol = contact.slab_tolerance
     for q, node in enumerate(nodes):
         if node["story"] != story:
             continue
