@@ -25,6 +25,7 @@ COMPILED_SOURCES = (
     "integrators/_kernels.py",
     "integrators/_dispatch.py",
     "integrators/_events.py",
+    "integrators/hermite.py",
     "integrators/_linalg.py",
     "integrators/_layout.py",
     "integrators/_coefficients.py",

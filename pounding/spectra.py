@@ -48,31 +48,12 @@ from pounding.ground_motion import (
     _check_damping,
     _check_periods,
 )
-from pounding.integrators._kernels import _hermite
-from pounding.integrators.sdof import _coefficients, _spectral_peaks, spectral_peaks  # noqa: F401  (re-exported)
+from pounding.integrators.hermite import hermite_extremum
+from pounding.integrators.sdof import nigam_jennings_step, spectral_peaks  # noqa: F401  (re-exported)
 from pounding.units import G
 
 #: Default periods [s]: 120 log-spaced values from 0.01 s to 10 s.
 DEFAULT_PERIODS = np.geomspace(0.01, 10.0, 120)
-
-
-@jit
-def _hermite_extremum(y0, s0, y1, s1, h):  # pragma: no cover - compiled
-    """Value of the cubic Hermite interpolant of (y0, ẏ0) -> (y1, ẏ1) over h where its slope,
-    of opposite signs at the ends, vanishes (bisection on the quadratic slope)."""
-    lo, hi = 0.0, 1.0
-    slope_lo = s0
-    th = 0.5
-    for _ in range(50):
-        th = 0.5 * (lo + hi)
-        slope = (6 * th * th - 6 * th) * (y0 - y1) / h + (3 * th * th - 4 * th + 1) * s0
-        slope += (3 * th * th - 2 * th) * s1
-        if (slope > 0.0) == (slope_lo > 0.0):
-            lo = th
-            slope_lo = slope
-        else:
-            hi = th
-    return _hermite(y0, s0, y1, s1, h, th)
 
 
 @jit
@@ -84,7 +65,7 @@ def _modal_extremes(
     h = dt / m
     coef = np.empty((n_modes, 8))
     for j in range(n_modes):
-        A, B, C, D, Ap, Bp, Cp, Dp = _coefficients(omega[j], damping[j], h)
+        A, B, C, D, Ap, Bp, Cp, Dp = nigam_jennings_step(omega[j], damping[j], h)
         coef[j, 0] = A
         coef[j, 1] = B
         coef[j, 2] = C
@@ -119,7 +100,7 @@ def _modal_extremes(
                 s += rows[r, j] * v[j]
             if s_prev[r] * s < 0.0 or (s == 0.0 and s_prev[r] != 0.0):
                 # an extremum inside the sub-step: the max/min of the cubic through both ends
-                e = _hermite_extremum(y_prev[r], s_prev[r], y, s, h)
+                e = hermite_extremum(y_prev[r], s_prev[r], y, s, h)
                 out_max[r] = max(out_max[r], e)
                 out_min[r] = min(out_min[r], e)
             out_max[r] = max(out_max[r], y)

@@ -15,9 +15,9 @@ import pytest
 from scipy import signal
 
 from pounding.ground_motion import GroundMotion, pseudo_spectral_acceleration
+from pounding.integrators.sdof import spectral_peaks_kernel
 from pounding.spectra import (
     DESIGN_SPECTRA,
-    _spectral_peaks,
     asce7_spectrum,
     design_spectrum,
     eurocode8_spectrum,
@@ -125,8 +125,8 @@ def test_compiled_kernel_equals_python_original(random_record):
     fast = np.empty((4, 3))
     slow = np.empty((4, 3))
     acc = random_record.acceleration[:60].copy()
-    _spectral_peaks(acc, 0.02, periods, 0.05, 100, True, fast)
-    _spectral_peaks.py_func(acc, 0.02, periods, 0.05, 100, True, slow)
+    spectral_peaks_kernel(acc, 0.02, periods, 0.05, 100, True, fast)
+    spectral_peaks_kernel.py_func(acc, 0.02, periods, 0.05, 100, True, slow)
     np.testing.assert_allclose(fast, slow, rtol=1e-12)
 
 

@@ -1,9 +1,10 @@
-"""Compiled event helpers of the time loop: the ground motion between samples, the cubic Hermite
-interpolant of a step and the location of its roots and first drop."""
+"""Compiled event helpers of the time loop: the ground motion between samples and the location of
+the roots and first drop of a step's cubic Hermite interpolant (:mod:`pounding.integrators.hermite`)."""
 
 from __future__ import annotations
 
 from pounding._numba import jit
+from pounding.integrators.hermite import hermite, hermite_slope
 
 
 @jit
@@ -28,10 +29,7 @@ def hermite_root(d0, v0, d1, v1, h):
     th = 0.5
     for _ in range(60):
         th = 0.5 * (lo + hi)
-        t2 = th * th
-        t3 = t2 * th
-        f = (2 * t3 - 3 * t2 + 1) * d0 + (t3 - 2 * t2 + th) * h * v0 + (-2 * t3 + 3 * t2) * d1
-        f += (t3 - t2) * h * v1
+        f = hermite(d0, v0, d1, v1, h, th)
         if (f > 0.0) == (f_lo > 0.0):
             lo = th
             f_lo = f
@@ -40,23 +38,7 @@ def hermite_root(d0, v0, d1, v1, h):
         if hi - lo < 1e-13:
             break
     th = 0.5 * (lo + hi)
-    t2 = th * th
-    dv = (6 * t2 - 6 * th) * d0 / h + (3 * t2 - 4 * th + 1) * v0 + (-6 * t2 + 6 * th) * d1 / h
-    dv += (3 * t2 - 2 * th) * v1
-    return th, dv
-
-
-@jit
-def _hermite(g0, s0, g1, s1, h, th):
-    """The cubic Hermite interpolant of (g0, slope s0) -> (g1, s1) over h at θ."""
-    t2 = th * th
-    t3 = t2 * th
-    return (
-        (2 * t3 - 3 * t2 + 1) * g0
-        + (t3 - 2 * t2 + th) * h * s0
-        + (-2 * t3 + 3 * t2) * g1
-        + (t3 - t2) * h * s1
-    )
+    return th, hermite_slope(d0, v0, d1, v1, h, th)
 
 
 @jit
@@ -70,7 +52,7 @@ def first_drop(g0, s0, g1, s1, h):
     prev_pos = g0 > 0.0
     for j in range(1, 33):
         th = j / 32.0
-        pos = _hermite(g0, s0, g1, s1, h, th) > 0.0
+        pos = hermite(g0, s0, g1, s1, h, th) > 0.0
         if prev_pos and not pos:
             lo = (j - 1) / 32.0
             hi = th
@@ -80,7 +62,7 @@ def first_drop(g0, s0, g1, s1, h):
             lo = th
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        if _hermite(g0, s0, g1, s1, h, mid) > 0.0:
+        if hermite(g0, s0, g1, s1, h, mid) > 0.0:
             lo = mid
         else:
             hi = mid

@@ -28,7 +28,7 @@ from pounding.integrators._dispatch import (  # noqa: F401
     friction_eval,
     friction_hysteretic_eval,
 )
-from pounding.integrators._events import _hermite, first_drop, ground_at, hermite_root  # noqa: F401
+from pounding.integrators._events import first_drop, ground_at, hermite_root  # noqa: F401
 from pounding.integrators._families import eval_gaps, gap_openings
 from pounding.integrators._layout import *  # noqa: F403  (re-exported: the layouts)
 from pounding.integrators._layout import (

@@ -21,11 +21,12 @@ from pounding.ground_motion import (
     nigam_jennings_coefficients,
 )
 
-_coefficients = jit(nigam_jennings_coefficients)
+#: :func:`pounding.ground_motion.nigam_jennings_coefficients`, compiled for the kernels.
+nigam_jennings_step = jit(nigam_jennings_coefficients)
 
 
 @jit
-def _spectral_peaks(
+def spectral_peaks_kernel(
     acc, dt, periods, damping, steps_per_period, free_vibration, out
 ):  # pragma: no cover - compiled
     n = acc.size
@@ -34,7 +35,7 @@ def _spectral_peaks(
         w = 2.0 * math.pi / period
         m = max(MIN_SUBSTEPS, int(math.ceil(steps_per_period * dt / period - 1e-9)))
         h = dt / m
-        A, B, C, D, Ap, Bp, Cp, Dp = _coefficients(w, damping, h)
+        A, B, C, D, Ap, Bp, Cp, Dp = nigam_jennings_step(w, damping, h)
         w2 = w * w
         cw = 2.0 * damping * w
         x = 0.0
@@ -89,7 +90,7 @@ def spectral_peaks(
             f"steps_per_period must be a positive integer, got {steps_per_period!r}"
         )
     out = np.empty((periods.size, 3))
-    _spectral_peaks(
+    spectral_peaks_kernel(
         acc, float(dt), periods, damping, int(steps_per_period), bool(free_vibration), out
     )
     return out

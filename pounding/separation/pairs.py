@@ -13,6 +13,7 @@ import xarray as xr
 from pounding.case import Case
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
+from pounding.integrators.hermite import hermite_extremum
 from pounding.separation.variables import _apply_attrs, _pair_coords
 from pounding.simulate import AnalysisOptions, run, step_plan
 from pounding.spectra import (
@@ -119,16 +120,13 @@ def _analysis_step(system: PoundingSystem, ground: GroundMotion, opts: AnalysisO
 
 
 def _hermite_max(d: np.ndarray, v: np.ndarray, h: float) -> float:
-    """Max of the cubic Hermite interpolant of (d, ḋ) sampled every h, near the largest sample."""
+    """Max of the cubic Hermite interpolant of (d, ḋ) sampled every h: the largest sample, or the
+    extremum inside a step next to it where ḋ turns from positive to negative."""
     k = int(np.argmax(d))
     best = float(d[k])
-    th = np.linspace(0.0, 1.0, 201)
-    h00, h10 = 2 * th**3 - 3 * th**2 + 1, th**3 - 2 * th**2 + th
-    h01, h11 = -2 * th**3 + 3 * th**2, th**3 - th**2
     for i in (k - 1, k):
-        if 0 <= i < d.size - 1:
-            cubic = h00 * d[i] + h10 * h * v[i] + h01 * d[i + 1] + h11 * h * v[i + 1]
-            best = max(best, float(cubic.max()))
+        if 0 <= i < d.size - 1 and v[i] > 0.0 >= v[i + 1]:
+            best = max(best, float(hermite_extremum(d[i], v[i], d[i + 1], v[i + 1], h)))
     return best
 
 
