@@ -340,6 +340,28 @@ CASE_SCHEMA = {
 }
 
 
+def schema_key(path: str) -> Key | None:
+    """The case-file key that a study's dotted path varies (``building.1.soil.shear_wave_velocity``
+    is ``shear_wave_velocity`` of ``[[building]] soil``), or None when the path is not a key of
+    :data:`CASE_SCHEMA` (an item of a list, a story model's parameter)."""
+    parts = [p for p in path.split(".") if not p.isdigit()]
+    if len(parts) == 3 and parts[0] == "building" and parts[1] in ("damping", "soil"):
+        tables = [f"[[building]] {parts[1]}"]
+    elif len(parts) == 2 and parts[0] in ("building", "contact", "link"):
+        tables = [f"[[{parts[0]}]]"]
+    elif len(parts) == 2 and parts[0] in ("analysis", "output"):
+        tables = [f"[{parts[0]}]"]
+    elif len(parts) == 2 and parts[0] == "ground_motion":
+        tables = ["[ground_motion] (record)", "[ground_motion] (analytic)"]
+    else:
+        return None
+    for table in tables:
+        for key in CASE_SCHEMA[table]:
+            if key.name == parts[-1]:
+                return key
+    return None
+
+
 class CaseError(PoundingInputError):
     """A case file is malformed; the message names the file and the key."""
 

@@ -776,7 +776,7 @@ def amplification(
         ax.set_title(f"building {plain_text(name)}", fontsize="small")
         ax.grid(True, alpha=0.3)
     axes[0, 0].set_ylabel(label(da, "amplification", units="1"))
-    if laws != [None] and any(line for line in axes[0, 0].lines):
+    if laws != [None] and any(not ln.get_label().startswith("_") for ln in axes[0, 0].lines):
         axes[0, -1].legend(fontsize="x-small")
     fig.suptitle(da.attrs.get("long_name", variable), fontsize="small")
     return fig

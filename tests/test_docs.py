@@ -23,7 +23,15 @@ def test_make_docs_builds_the_site_with_warnings_as_errors(tmp_path):
         capture_output=True, text=True, cwd=ROOT,
     )  # fmt: skip
     assert res.returncode == 0, res.stderr[-3000:]
-    for page in ("index", "guide", "case_file", "design", "api/contact.laws", "api/separation"):
+    for page in (
+        "index",
+        "guide",
+        "gallery",
+        "case_file",
+        "design",
+        "api/contact.laws",
+        "api/separation",
+    ):
         assert (out / f"{page}.html").is_file(), page
     laws = (out / "api" / "contact.laws.html").read_text()
     # the laws' equations reach the page as math and their references as citations
@@ -34,3 +42,15 @@ def test_make_docs_builds_the_site_with_warnings_as_errors(tmp_path):
         "pounding run examples/three_vs_eight_story.toml -o out.nc" in text
         and "demo_amplification.png" in guide
     )
+
+
+def test_gallery_shows_every_example_with_its_command_and_an_existing_figure():
+    # docs/gallery.md is written by docs/gallery.py: a new example needs a rerun of it
+    text = (ROOT / "docs" / "gallery.md").read_text()
+    for example in sorted((ROOT / "examples").glob("*.toml")):
+        assert f"## {example.stem}\n" in text, f"{example.name} missing: run python docs/gallery.py"
+        assert f"examples/{example.name} -o" in text
+    images = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text)
+    assert len(images) == len(list((ROOT / "examples").glob("*.toml")))
+    for image in images:
+        assert (ROOT / "docs" / image).is_file(), image

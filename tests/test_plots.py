@@ -131,6 +131,17 @@ def test_shear_envelopes_and_floor_spectra_draw_the_datasets_values():
     )
 
 
+def test_amplification_without_the_axis_draws_a_bar_per_law_and_no_empty_legend(study):
+    one_gap = study.isel(gap=0)
+    fig = plots.amplification(one_gap, "displacement_amplification", x="gap")
+    name = study["building"].values[0]
+    heights = {p.get_x(): p.get_height() for p in fig.axes[0].patches}
+    expected = one_gap["displacement_amplification"].sel(building=name).median("record")
+    expected = expected.drop_sel(law="none", errors="ignore")  # the baseline: no bar
+    np.testing.assert_allclose(sorted(heights.values()), sorted(expected.values))
+    assert all(ax.get_legend() is None for ax in fig.axes)
+
+
 def test_amplification_heatmap_diverges_about_one_with_symmetric_limits(study):
     # ratios to the no-contact run: a diverging map centred on 1, limits 1 - d and 1 + d
     fig = plots.heatmap(study, "drift_amplification", "gap", "law", building="L")

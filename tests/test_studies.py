@@ -171,6 +171,26 @@ def test_dotted_path_axis_sets_one_case_value(tmp_path):
     other = ds.sel({"building.1.damping.ratio": 0.02}).isel(record=0)
     assert not np.allclose(other["peak_displacement"], got["peak_displacement"])
     assert ds["building.1.damping.ratio"].attrs["units"] == "1"
+    # the axis is named from the case-file schema, as the case-file reference names the key
+    assert (
+        ds["building.1.damping.ratio"].attrs["long_name"] == "Rayleigh damping ratio at both modes"
+    )
+
+
+def test_study_axis_units_and_names_come_from_the_case_file_schema():
+    from pounding.studies.dataset import _axis_coord
+
+    _, values, attrs = _axis_coord("building.1.soil.shear_wave_velocity", [80.0, 1500.0])
+    assert attrs == {
+        "long_name": "shear-wave velocity V_s of the soil",
+        "units": "m/s",
+    }
+    assert _axis_coord("analysis.dt", [0.01])[2] == {"long_name": "integration step", "units": "s"}
+    assert _axis_coord("contact.0.k", [1e9])[2]["units"] == "N/m^n"
+    # a path that is no schema key keeps the generic name
+    assert _axis_coord("building.0.stories.yield_drift", [0.005])[2] == {
+        "long_name": "case value building.0.stories.yield_drift"
+    }
 
 
 def test_switching_law_family_needs_its_k():

@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from pounding._version import __version__
-from pounding.case import Case
+from pounding.case import Case, schema_key
 from pounding.contact.laws import get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.results import ATTRS
@@ -205,8 +205,12 @@ def _axis_coord(name: str, values: Sequence[Any]) -> tuple[str, np.ndarray, dict
     attrs = dict(_AXIS_ATTRS.get(name, {}))
     if not attrs:
         last = name.split(".")[-1]
-        attrs = {"long_name": f"case value {name}"}
-        if last in _PATH_UNITS:
+        key = schema_key(name)
+        # the schema's words (the dim name keeps the path: which building, which contact)
+        attrs = {"long_name": key.meaning.split(" (")[0] if key else f"case value {name}"}
+        if key and key.unit:
+            attrs["units"] = key.unit
+        elif last in _PATH_UNITS:
             attrs["units"] = _PATH_UNITS[last]
     return name, data, attrs
 
