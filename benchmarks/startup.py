@@ -5,7 +5,10 @@
 * warm ``pounding run examples/three_vs_eight_story.toml -o OUT.nc`` (numba cache filled);
 * cold run of the same: a fresh, empty ``NUMBA_CACHE_DIR`` (numba compiles the kernels), wall and
   CPU (user + system of the child, from ``resource.getrusage(RUSAGE_CHILDREN)``);
-* ``results.save`` of the 3-vs-8 result (h5netcdf), in-process, after one unmeasured write.
+* ``results.save`` of the 3-vs-8 result (h5netcdf), in-process, after one unmeasured write;
+* with ``--install``: what a new user meets. ``pip install .`` of this checkout into a fresh venv
+  (the wheel build compiles the kernels into the package, ``setup.py``), then the first and the
+  second ``pounding run`` of the example in that venv with an empty ``NUMBA_CACHE_DIR``.
 
 Each figure is over ``--repeats`` processes (``--cold-repeats`` for the cold run), min and median.
 
@@ -13,6 +16,7 @@ Each figure is over ``--repeats`` processes (``--cold-repeats`` for the cold run
     python benchmarks/startup.py --quick        # fewer repeats, results/quick/
     python benchmarks/startup.py --cold-repeats 0   # warm figures only; the cold run's figures
                                                     # are kept from the previous startup.json
+    python benchmarks/startup.py --install      # + pip install . and the first run after it
 """
 
 from __future__ import annotations
@@ -96,11 +100,33 @@ def save_time(repeats: int, out: Path) -> dict[str, float]:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
+def after_install(tmp: Path) -> dict[str, dict]:
+    """``pip install .`` into a fresh venv, then two runs of the example with an empty cache dir."""
+    import venv
+
+    env_dir = tmp / "venv"
+    venv.create(env_dir, with_pip=True)
+    bin_ = env_dir / "bin"
+    env = {"NUMBA_CACHE_DIR": str(tmp / "empty-numba-cache"), "PYTHONPATH": ""}
+    out: dict[str, dict] = {}
+    install = [str(bin_ / "pip"), "install", "--quiet", str(ROOT)]
+    out["pip install . (fresh venv)"] = stats([timed(install, env)])
+    run_cmd = [str(bin_ / "pounding"), "run", str(CASE), "-o", str(tmp / "installed.nc")]
+    first = timed(run_cmd, env)
+    out["first pounding run after install"] = stats([first])
+    out["first pounding run after install"]["notice"] = first[2].splitlines()[0] if first[2] else ""
+    out["second pounding run after install"] = stats([timed(run_cmd, env)])
+    for name, r in out.items():
+        print(f"{name:36s} wall {r['wall_min']:.1f} s; CPU {r['cpu_min']:.1f} s")
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeats", type=int, default=7)
     ap.add_argument("--cold-repeats", type=int, default=2)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--install", action="store_true", help="also pip install . and its first run")
     args = ap.parse_args(argv)
     if args.quick:
         args.repeats, args.cold_repeats = 3, 1
@@ -154,6 +180,8 @@ def main(argv: list[str] | None = None) -> int:
         )
     results["results.save (in process)"] = save_time(max(5, args.repeats), out_nc)
     print(f"results.save in process: {results['results.save (in process)']}")
+    if args.install:
+        results.update(after_install(tmp))
     shutil.rmtree(tmp, ignore_errors=True)
     payload = {
         "command": "python benchmarks/startup.py "

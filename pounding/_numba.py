@@ -7,8 +7,11 @@ compare both paths) live in one place.
 numba's disk cache keys each compiled function on its own source file only, while a kernel carries
 the machine code of the functions it calls from other modules: after an edit to a callee's module
 (a law, a step), the caller's cached code would be stale. So every compiled function of this
-package is stamped with one digest of all :data:`COMPILED_SOURCES` instead; an edit to any of them
-recompiles everything that depends on it.
+package is stamped with one digest of the contents of all :data:`COMPILED_SOURCES` instead; an edit
+to any of them recompiles everything that depends on it. The digest is of the contents, not the
+modification times, so a cache compiled when the wheel is built (``setup.py``) stays valid once
+pip has installed the files: such an install carries :data:`SHIPPED_MARKER`, and its functions
+then keep their cache beside the sources (``__pycache__``) even when ``NUMBA_CACHE_DIR`` is set.
 """
 
 from __future__ import annotations
@@ -43,18 +46,20 @@ COMPILED_SOURCES = (
     "spectra.py",
     "sdof.py",
 )
+#: Written into the package by the wheel build (``setup.py``) after it compiled the kernels.
+SHIPPED_MARKER = "_shipped_kernels.json"
 _stamp: str | None = None
 
 
 def source_stamp() -> str:
-    """Digest of the modification times and sizes of every file of :data:`COMPILED_SOURCES`."""
+    """Digest of the contents of every file of :data:`COMPILED_SOURCES`."""
     global _stamp
     if _stamp is None:
         digest = hashlib.sha256()
         for pattern in COMPILED_SOURCES:
             for path in sorted(_PACKAGE.glob(pattern)):
-                st = path.stat()
-                digest.update(f"{pattern}:{path.name}:{st.st_mtime_ns}:{st.st_size};".encode())
+                digest.update(f"{pattern}:{path.name}:".encode())
+                digest.update(hashlib.sha256(path.read_bytes()).digest())
         _stamp = digest.hexdigest()
     return _stamp
 
@@ -66,7 +71,10 @@ def _package_locators() -> None:
 
     impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
     ours = []
-    for name in ("UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator"):
+    names = ["UserProvidedCacheLocator", "InTreeCacheLocator", "UserWideCacheLocator"]
+    if (_PACKAGE / SHIPPED_MARKER).is_file():
+        names.insert(0, names.pop(1))  # the kernels compiled into the wheel, beside the sources
+    for name in names:
         base = getattr(caching, name, None) or getattr(caching, "_" + name, None)
         if base is None:
             return  # an unknown numba layout: keep its default stamps

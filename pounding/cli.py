@@ -1211,14 +1211,18 @@ def _compile_notice() -> None:
 
 
 @app.command()
-def warmup() -> None:
+def warmup(
+    every_path: bool = typer.Option(
+        False, "--all", help="Also the ivp reference path and the spectra/separation kernels."
+    ),
+) -> None:
     """Compile the numerical kernels now (once after installing or upgrading) and show the cache."""
     from pounding.warmup import cache_dir, is_warm, notice, warm_up
 
     cold = not is_warm()
     if cold:
         typer.echo(notice(), err=True)
-    seconds = warm_up()
+    seconds = warm_up(every_path=every_path)
     state = "compiled" if cold else "already cached: loaded"
     typer.echo(f"numerical kernels {state} in {seconds:.1f} s; cache in {cache_dir()}")
 

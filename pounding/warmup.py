@@ -80,18 +80,31 @@ _WARMUP_CASE = {
 }
 
 
-def warm_up() -> float:
+def warm_up(*, every_path: bool = False) -> float:
     """Compile (or load) the Newmark kernels by running a small two-building case with impacts.
 
     Returns the wall time [s] it took: tens of seconds on a cold cache, a fraction of a second on a
     warm one. Every analysis calls the kernels with the same argument types, so this one call serves
-    them all."""
+    them all. ``every_path`` also compiles the ivp reference path's kernels and the oscillator
+    kernels of spectra and separation estimates (``pounding warmup --all``; the wheel build)."""
     from pounding.case import case_from_dict
     from pounding.simulate import run
 
     start = time.perf_counter()
     case = case_from_dict(_WARMUP_CASE, source="warm-up case")
     run(case.system, case.ground_motion, case.analysis)
+    if every_path:
+        import dataclasses
+
+        import numpy as np
+
+        from pounding.integrators.sdof import modal_extremes, spectral_peaks
+
+        run(case.system, case.ground_motion, dataclasses.replace(case.analysis, method="ivp"))
+        ground = case.ground_motion
+        spectral_peaks(ground.acceleration, ground.dt, np.array([0.5, 1.0]), 0.05)
+        omega, zeta = np.array([6.0, 20.0]), np.array([0.05, 0.05])
+        modal_extremes(ground.acceleration, ground.dt, omega, zeta, np.eye(2), ground.duration)
     return time.perf_counter() - start
 
 

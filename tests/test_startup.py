@@ -88,10 +88,23 @@ def test_run_on_cold_cache_prints_the_notice_first(tmp_path, monkeypatch):
 
 def test_warmup_verb_reports_time_and_cache(monkeypatch):
     monkeypatch.setattr(pounding.warmup, "is_warm", lambda: True)
-    monkeypatch.setattr(pounding.warmup, "warm_up", lambda: 0.25)
+    calls = []
+    monkeypatch.setattr(pounding.warmup, "warm_up", lambda **kw: calls.append(kw) or 0.25)
     res = CliRunner().invoke(app, ["warmup"])
     assert res.exit_code == 0, res.output
     assert "already cached: loaded in 0.2 s; cache in " in res.output
+    assert CliRunner().invoke(app, ["warmup", "--all"]).exit_code == 0
+    assert calls == [{"every_path": False}, {"every_path": True}]
+
+
+def test_warm_up_of_every_path_compiles_the_ivp_and_oscillator_kernels():
+    # what the wheel build runs (setup.py): after it, these need no compilation on first use
+    from pounding.integrators import ivp, sdof
+    from pounding.warmup import warm_up
+
+    warm_up(every_path=True)
+    compiled = [ivp._rhs_kernel, sdof.spectral_peaks_kernel, sdof.modal_extremes_kernel]
+    assert all(f.signatures for f in compiled)
 
 
 def test_run_console_process_loads_no_xarray_pandas_or_scipy_linalg(tmp_path):
