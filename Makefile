@@ -10,8 +10,9 @@ $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[test,records,distributed,excel]'
-	# compile the numba kernels now (once per install), not during the first analysis
-	$(BIN)/pounding warmup
+	# compile the numba kernels now (once per install; an editable install does not ship them), not
+	# during the first analysis or in each test worker
+	$(BIN)/pounding warmup --all
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -29,8 +30,9 @@ test-setup:
 
 # After the tests: install pounding as a user would (plain `pip install .`, and -e with each extra alone)
 # into throw-away venvs and run `pounding run` + read the NetCDF back (tests/install_check.py).
+# The tests run in one worker process per core (pytest-xdist).
 test: $(STAMP) test-setup
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n auto
 	$(BIN)/python tests/install_check.py
 
 # The documentation site (user guide from the README, the case-file reference, the design, the API from

@@ -54,8 +54,11 @@ def timed(cmd: list[str], env: dict[str, str] | None = None) -> tuple[float, flo
     PYTHONPATH) pounding, not a checkout that happens to be the working directory."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
+    # a user's Python writes and reuses .pyc files: a PYTHONDONTWRITEBYTECODE in the benchmark's
+    # own environment would add ~0.3 s of compiling every module from source to each run
+    base = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     res = subprocess.run(
-        cmd, capture_output=True, text=True, env={**os.environ, **(env or {})}, cwd=SCRATCH
+        cmd, capture_output=True, text=True, env={**base, **(env or {})}, cwd=SCRATCH
     )
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
