@@ -4,7 +4,7 @@ the roots and first drop of a step's cubic Hermite interpolant (:mod:`pounding.i
 from __future__ import annotations
 
 from pounding._numba import jit
-from pounding.integrators.hermite import hermite, hermite_slope
+from pounding.integrators.hermite import hermite, hermite_slope, hermite_zero
 
 
 @jit
@@ -24,20 +24,7 @@ def ground_at(ag, ag_dt, t):
 def hermite_root(d0, v0, d1, v1, h):
     """θ in [0, 1] where the cubic Hermite interpolant of (d0, v0) -> (d1, v1) over h first crosses 0,
     and its derivative there. Assumes d0 <= 0 < d1 or d0 > 0 >= d1 (a sign change)."""
-    lo, hi = 0.0, 1.0
-    f_lo = d0
-    th = 0.5
-    for _ in range(60):
-        th = 0.5 * (lo + hi)
-        f = hermite(d0, v0, d1, v1, h, th)
-        if (f > 0.0) == (f_lo > 0.0):
-            lo = th
-            f_lo = f
-        else:
-            hi = th
-        if hi - lo < 1e-13:
-            break
-    th = 0.5 * (lo + hi)
+    th = hermite_zero(d0, v0, d1, v1, h, False)
     return th, hermite_slope(d0, v0, d1, v1, h, th)
 
 

@@ -42,18 +42,26 @@ def hermite_slope(y0, s0, y1, s1, h, th):
 
 
 @jit
-def hermite_extremum(y0, s0, y1, s1, h):
-    """Value of the interpolant where its slope, of opposite signs at the two ends, vanishes
-    (bisection on the quadratic slope, 50 halvings: θ to 1e-15)."""
+def hermite_zero(y0, s0, y1, s1, h, of_slope):
+    """θ in [0, 1] where the interpolant (``of_slope`` False) or its slope (True), of opposite signs
+    at the two ends, vanishes: bisection to 1e-13 in θ."""
     lo, hi = 0.0, 1.0
-    slope_lo = s0
+    f_lo = s0 if of_slope else y0
     th = 0.5
-    for _ in range(50):
+    for _ in range(60):
         th = 0.5 * (lo + hi)
-        slope = hermite_slope(y0, s0, y1, s1, h, th)
-        if (slope > 0.0) == (slope_lo > 0.0):
+        f = hermite_slope(y0, s0, y1, s1, h, th) if of_slope else hermite(y0, s0, y1, s1, h, th)
+        if (f > 0.0) == (f_lo > 0.0):
             lo = th
-            slope_lo = slope
+            f_lo = f
         else:
             hi = th
-    return hermite(y0, s0, y1, s1, h, th)
+        if hi - lo < 1e-13:
+            break
+    return 0.5 * (lo + hi)
+
+
+@jit
+def hermite_extremum(y0, s0, y1, s1, h):
+    """Value of the interpolant where its slope, of opposite signs at the two ends, vanishes."""
+    return hermite(y0, s0, y1, s1, h, hermite_zero(y0, s0, y1, s1, h, True))
