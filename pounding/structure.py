@@ -507,7 +507,8 @@ class ShearBuilding:
 
     def stability_coefficients(self) -> np.ndarray:
         """Elastic stability coefficient θ_i = P_i/(k_i h_i) of each story (ASCE 7-16 §12.8.7)."""
-        return self.gravity_loads() / (self.stiffnesses * self.heights)
+        with np.errstate(over="ignore"):  # a story of vanishing k h is θ = inf: unstable, refused
+            return self.gravity_loads() / (self.stiffnesses * self.heights)
 
     def geometric_stiffness_matrix(self) -> np.ndarray:
         """P-Δ geometric stiffness [N/m], shape (n, n): a spring −P_i/h_i across each story

@@ -368,6 +368,22 @@ def test_p_delta_case_key_and_a_story_unstable_under_gravity():
     np.testing.assert_allclose(case.system.stiffness, [[4e7 - 9.80665 * 1e5 / 3.0]])
 
 
+def test_a_story_of_vanishing_stiffness_is_infinitely_unstable_without_a_numpy_warning():
+    # k h below 1/huge overflows P/(k h): θ is inf (refused with p_delta), not a RuntimeWarning
+    # (found by the fuzzed case-file test)
+    import warnings
+
+    spec = {"name": "A", "masses": [1e5], "stiffnesses": [1e-300], "heights": [1e-10]}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        b = ShearBuilding("A", np.array([1e5]), np.array([1e-300]), heights=np.array([1e-10]))
+        assert b.stability_coefficients()[0] == math.inf
+        with pytest.raises(CaseError, match=r"θ = P/\(k h\) = inf ≥ 1"):
+            case_from_dict(
+                {"building": [{**spec, "p_delta": True}], "ground_motion": {"type": "sine_pulse"}}
+            )
+
+
 def test_a_study_sweeps_a_story_parameter_and_records_hysteresis_and_collapse(tmp_path):
     from pounding.studies import run_study, study_from_dict
 
