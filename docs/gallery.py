@@ -21,6 +21,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 from pounding import load_case, plots, simulate  # noqa: E402
+from pounding.case import read_case_file  # noqa: E402
 from pounding.studies import load_study, run_study  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -68,10 +69,7 @@ LARGE = [
 
 
 def _title(path: Path) -> str:
-    for line in path.read_text().splitlines():
-        if line.startswith("title"):
-            return line.split("=", 1)[1].strip().strip('"')
-    return path.stem.replace("_", " ")
+    return str(read_case_file(path).get("title", path.stem.replace("_", " ")))
 
 
 def _row(ds) -> str:

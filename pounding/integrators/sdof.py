@@ -19,6 +19,7 @@ from pounding.ground_motion import (
     _check_damping,
     _check_periods,
     nigam_jennings_coefficients,
+    substeps,
 )
 from pounding.integrators.hermite import hermite_extremum
 
@@ -34,6 +35,7 @@ def spectral_peaks_kernel(
     for j in range(periods.size):
         period = periods[j]
         w = 2.0 * math.pi / period
+        # ground_motion.substeps, scalar (the compiled kernel cannot call the numpy helper)
         m = max(MIN_SUBSTEPS, int(math.ceil(steps_per_period * dt / period - 1e-9)))
         h = dt / m
         A, B, C, D, Ap, Bp, Cp, Dp = nigam_jennings_step(w, damping, h)
@@ -201,8 +203,7 @@ def modal_extremes(
         raise PoundingInputError(
             "modal_extremes: need omega > 0 and 0 <= damping < 1 for every mode"
         )
-    period = 2.0 * math.pi / float(omega.max())
-    m = max(MIN_SUBSTEPS, int(math.ceil(steps_per_period * dt / period - 1e-9)))
+    m = int(substeps(2.0 * math.pi / float(omega.max()), dt, steps_per_period))
     h = dt / m
     n_sub = max(1, int(round(duration / h)))
     need = n_sub // m + 2
