@@ -251,6 +251,28 @@ def test_band_factors_solve_like_a_dense_solver(bw):
     np.testing.assert_allclose(y, 2.0 * A @ r, rtol=1e-13)
 
 
+def test_band_blocks_are_the_uncoupled_diagonal_blocks():
+    """Three blocks of 4, 5 and 3 rows in a band of half width 2 (buildings without a shared dof);
+    one coupling entry across a boundary merges the two blocks it joins."""
+    from pounding.integrators._kernels import band_blocks, to_band
+
+    bw, sizes = 2, (4, 5, 3)
+    n = sum(sizes)
+    A = np.zeros((n, n))
+    start = 0
+    for m in sizes:
+        for i in range(start, start + m):
+            for j in range(max(start, i - bw), min(start + m, i + bw + 1)):
+                A[i, j] = 1.0
+        start += m
+    blk = band_blocks(to_band(A, bw), bw)
+    bounds = [(0, 4)] * 4 + [(4, 9)] * 5 + [(9, 12)] * 3
+    assert [tuple(p) for p in blk.T] == bounds
+    A[8, 10] = A[10, 8] = 0.5  # the second and third blocks now share a coupling
+    blk = band_blocks(to_band(A, bw), bw)
+    assert [tuple(p) for p in blk.T] == [(0, 4)] * 4 + [(4, 12)] * 8
+
+
 def test_large_row_takes_the_band_path_and_agrees_with_ivp():
     # 2 × 15 floors: the open-gap steps use the band factors (O(n)), not the dense map
     from pounding.integrators import _kernels as kn
@@ -323,11 +345,14 @@ def test_default_steps_keep_pointwise_error_within_0p3_percent_of_peak_el_centro
     "open_floors", [(), (1,), (0, 2)], ids=["all_closed", "2_open", "1_3_open"]
 )
 @pytest.mark.parametrize("law", ["linear", "hertz", "lankarani_nikravesh", "jankowski", "bilinear"])
-def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_floors):
+@pytest.mark.parametrize("columns", ["precomputed", "solved_as_gaps_act", "open_gaps_held_open"])
+def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_floors, columns):
     """The contact step condensed onto the gaps (Newton on the active gap openings, the open gaps
     back-substituted, then one update of u1) solves the full n-dof HHT step,
     M a1 + w(C v1 + K u1 + B f1) − α(C v + K u + B f0) = −M ι g_eff, written out here with the
-    Newmark relations and the laws' Python kernels."""
+    Newmark relations and the laws' Python kernels. Its condensation Z = J⁻¹ B, S = Bᵀ J⁻¹ B either
+    given whole (small systems) or solved column by column from J's band factors as gaps act; the
+    open gaps among the Newton rows or held open (their openings found after the iterations)."""
     from pounding.integrators import _kernels as kn
 
     a_bld = ShearBuilding.uniform("A", 3, period=0.3, mass=2.0e5)
@@ -377,16 +402,37 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
     kn.dense_step(Q, pg, g_eff, cf, (u, v, a), tr)
     J = M / (beta * hs**2) + w * (gamma / (beta * hs) * C + K)
     Z, S = np.zeros((n, n_el)), np.zeros((n_el, n_el))
-    kn.condense_map(np.linalg.inv(J), el.el_dof, el.el_sign, Z, S)
-    fac = kn.Factor(np.array([hs]), None, None, None, Z, S, Q, pg)
+    have = np.zeros(n_el, dtype=bool)
+    if columns == "precomputed":
+        kn.condense_map(np.linalg.inv(J), el.el_dof, el.el_sign, Z, S)
+        have[:] = True
+    bw = kn.bandwidth(M, C, K)
+    L, D = kn.band_ldl(kn.to_band(J, bw), bw)
+    blk = kn.band_blocks(sum(np.abs(kn.to_band(m, bw)) for m in (M, C, K)), bw)
+    assert blk[0, 3] == 3 and blk[1, 0] == 3 and blk[1, 3] == n  # the two buildings' floors
+    fac = kn.Factor(np.array([hs]), L, D, np.empty((0, 0)), Z, S, Q, pg, have, blk)
     gaps = kn.Gaps(el.el_dof, el.el_sign, el.el_gap, el.el_law, el.el_params, None, None, closed,
                    v0, d0, f0, None, None, None, f0)  # fmt: skip
     opts = kn.Options(1e-12, 25, 0, True, 0.0, 0.0, False, 20.0, hs)
-    wk = kn.Work(None, None, None, None, None, None, np.zeros((4, n_el)),
+    wk = kn.Work(None, None, np.zeros((4, n)), None, None, None, np.zeros((4, n_el)),
                  np.zeros(n_el, dtype=np.int64), np.zeros(n_el, dtype=np.int64), np.zeros(n_el),
-                 np.zeros((n_el, n_el + 1)), None, None, None, None, None, None, None, None)  # fmt: skip
-    ok, its = kn.contact_step(fac, cf, u, gaps, np.zeros(n_el, dtype=bool), opts, tr, wk)
+                 np.zeros((n_el, n_el + 1)), None, None, None, None, None, None, np.zeros(n),
+                 None, np.zeros(n_el, dtype=np.int64))  # fmt: skip
+    off = ~closed if columns == "open_gaps_held_open" else np.zeros(n_el, dtype=bool)
+    ok, its = kn.contact_step(fac, cf, u, gaps, off, opts, tr, wk)
     assert ok and 1 <= its <= 8
+    # the columns solved are those of the gaps that acted, and equal J⁻¹ B's
+    assert np.array_equal(have, np.ones(n_el, dtype=bool) if columns == "precomputed" else closed)
+    B_el = np.zeros((n, n_el))
+    for c in range(n_el):
+        for s in range(2):
+            if el.el_dof[c, s] >= 0:
+                B_el[el.el_dof[c, s], c] = el.el_sign[c, s]
+    Z_ref = np.linalg.solve(J, B_el)
+    np.testing.assert_allclose(
+        Z[:, have], Z_ref[:, have], rtol=1e-10, atol=1e-14 * abs(Z_ref).max()
+    )
+    np.testing.assert_allclose(S[:, have], (B_el.T @ Z_ref)[:, have], rtol=1e-10, atol=1e-16)
     # the full step equations, independently
     a_new = (u1 - u) / (beta * hs**2) - v / (beta * hs) - (0.5 / beta - 1.0) * a
     v_new = v + hs * ((1.0 - gamma) * a + gamma * a_new)
@@ -405,11 +451,7 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
     assert np.all(d_new[~closed] < 0) and np.all(f1[~closed] == 0)  # the open gaps stayed open
     np.testing.assert_allclose(d1, d_new, rtol=0, atol=1e-13)
     np.testing.assert_allclose(f1, f_new, rtol=1e-7)
-    B = np.zeros((n, n_el))
-    for c in range(n_el):
-        for s in range(2):
-            if el.el_dof[c, s] >= 0:
-                B[el.el_dof[c, s], c] = el.el_sign[c, s]
+    B = B_el
     residual = M @ a_new + w * (C @ v_new + K @ u1 + B @ f_new) - alpha * (C @ v + K @ u + B @ f0)
     residual += Mi * g_eff
     assert np.abs(residual).max() <= 1e-8 * np.abs(B @ f_new).max()

@@ -84,6 +84,7 @@ from pounding.integrators._linalg import (  # noqa: F401
     _solve_small,
     _transpose,
     _woodbury_solve,
+    band_blocks,
     band_ldl,
     band_solve,
     bandwidth,
@@ -125,19 +126,23 @@ def _prepare(sy, sch, gaps, fr, el, h):
     L_m, D_m = band_ldl(Mb, bw)
     dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
     # diagonal-major copies for the quadratic forms of the energy ledger
+    pattern = np.abs(Mb) + np.abs(Cb) + np.abs(Kb)
+    blk = band_blocks(pattern, bw)
+    for e in range(el.kind.size):
+        for s in range(el.dof.shape[1]):
+            for r in range(el.dof.shape[1]):
+                i = el.dof[e, s]
+                j = el.dof[e, r]
+                if i >= 0 and j >= 0 and abs(i - j) <= bw:
+                    pattern[i, j - i + bw] = 1.0  # a family row the band tangent takes in
     md = Model(sy.M, sy.C, sy.K, Mi, L_m, D_m, Mb, Cb, Kb, _transpose(Mb), _transpose(Cb),
                _transpose(Kb), bw, dense, sy.iota, sy.below, sy.tilt, sy.tilt_h, sy.ag, sy.ag_dt,
-               sy.x_dof, sy.x_sign)  # fmt: skip
+               sy.x_dof, sy.x_sign, band_blocks(pattern, bw))  # fmt: skip
     if dense:
         Q, pg = dense_map(h, sy.M, sy.C, sy.K, Mi, sch)
     else:
         Q = np.zeros((0, 3 * n))
         pg = np.zeros(0)
-    fac_h = Factor(np.zeros(1), np.zeros((n, bw + 1)), np.zeros(n), np.empty((n, n)),
-                   np.zeros((n, n_el)), np.zeros((n_el, n_el)), Q, pg)  # fmt: skip
-    refactor(h, md, sch, fac_h)
-    fac_c = Factor(fac_h.h.copy(), fac_h.L.copy(), fac_h.D.copy(), fac_h.J_inv.copy(),
-                   fac_h.Z.copy(), fac_h.S.copy(), np.zeros((0, 3 * n)), np.zeros(0))  # fmt: skip
     tr = Trial(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_el), np.zeros(n_el),
                np.zeros(n_el), np.zeros(n_el), np.zeros(n_el))  # fmt: skip
     m = max(n_x, 1)
@@ -148,11 +153,49 @@ def _prepare(sy, sch, gaps, fr, el, h):
               np.zeros((max(n_el, 1), max(n_el, 1) + 1)), np.zeros(n_el),
               np.zeros(n_el, dtype=np.bool_), np.zeros(n_el, dtype=np.bool_),
               np.zeros((n, 2 * bw + 1)), np.zeros((n, bw + 1)), np.zeros(n), np.zeros(n),
-              np.zeros(n_x, dtype=np.bool_))  # fmt: skip
+              np.zeros(n_x, dtype=np.bool_), np.zeros(n_el, dtype=np.int64))  # fmt: skip
+    # the dense inverse where the dense map is used or Coulomb slabs read its columns
+    n_inv = n if dense or fr.dof.size > 0 else 0
+    fac_h = Factor(np.zeros(1), np.zeros((n, bw + 1)), np.zeros(n), np.empty((n_inv, n_inv)),
+                   np.zeros((n, n_el)), np.zeros((n_el, n_el)), Q, pg,
+                   np.zeros(n_el, dtype=np.bool_), blk)  # fmt: skip
+    refactor(h, md, sch, fac_h, wk.Jb)
+    fac_c = Factor(fac_h.h.copy(), fac_h.L.copy(), fac_h.D.copy(), fac_h.J_inv.copy(),
+                   fac_h.Z.copy(), fac_h.S.copy(), np.zeros((0, 3 * n)), np.zeros(0),
+                   fac_h.have.copy(), blk)  # fmt: skip
+    # the factor of any other step length (graded, before a separation, located events) for the
+    # condensed step of a large system of gaps alone; unused (empty) otherwise
+    k = n_el if _condensed_any(md, fr, el) else 0
+    fac_g = Factor(np.zeros(1), np.zeros((n, bw + 1)), np.zeros(n), np.empty((0, 0)),
+                   np.zeros((n, k)), np.zeros((k, k)), np.zeros((0, 3 * n)), np.zeros(0),
+                   np.zeros(k, dtype=np.bool_), blk)  # fmt: skip
     ls = LoopState(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(N_CT), np.zeros(N_EN),
                    np.zeros(n), np.zeros(n), np.zeros(n_el, dtype=np.bool_),
                    np.zeros(n_el, dtype=np.bool_))  # fmt: skip
-    return md, fac_h, fac_c, tr, wk, ls
+    return md, fac_h, fac_c, fac_g, tr, wk, ls
+
+
+@jit_inline
+def _condensed_any(md, fr, el):
+    """True when a step of any length is taken condensed onto the gaps: gaps alone (no friction,
+    no element family) in a system large enough for the band form. Newton over all n dofs would
+    cost O(n) per iteration and a Woodbury row per closed gap; the condensed step solves the
+    closed gaps' columns once per step and iterates on the gap openings."""
+    return fr.dof.size == 0 and el.kind.size == 0 and not md.dense
+
+
+@jit_inline
+def _step_any(hs, t, x0, md, sch, gaps, off, fr, el, fac, fac_g, opts, tr, wk):
+    """A step of length hs by Newton with the factors ``fac`` where they are hs's (or the system
+    needs Newton), else condensed onto the gaps with ``fac_g`` factored for hs."""
+    if _condensed_any(md, fr, el) and abs(hs - fac.h[0]) > 1e-8 * fac.h[0]:
+        if fac_g.h[0] != hs:
+            refactor(hs, md, sch, fac_g, wk.Jb)
+        cf = newmark_coefficients(hs, sch)
+        g_eff = cf.w * ground_at(md.ag, md.ag_dt, t + hs) - cf.alpha * ground_at(md.ag, md.ag_dt, t)
+        linear_step(md, fac_g, g_eff, cf, x0, tr, wk.lin)
+        return contact_step(fac_g, cf, x0[0], gaps, off, opts, tr, wk)
+    return newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk)
 
 
 @jit_inline
@@ -197,7 +240,7 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     then, if a gap closes, the step condensed onto the gaps (no friction, no element families) or
     Newton over every family. ``facs`` = (base step, contact step) factors, ``off`` = (no gap held
     open, open gaps held open). Returns (ok, Newton iterations, hs: the length taken)."""
-    fac_h, fac_c = facs
+    fac_h, fac_c, fac_g = facs
     none_off, open_off = off
     h = opts.h
     n_fr = fr.dof.size
@@ -232,7 +275,7 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
             return True, 0, hs
     if in_contact and abs(hs - h_contact) <= 1e-8 * h_contact and fac_c.h[0] != h_contact:
         # a new contact step size: its tangent inverse serves every step of the impact
-        refactor(hs, md, sch, fac_c)
+        refactor(hs, md, sch, fac_c, wk.Jb)
     use_c = abs(hs - fac_c.h[0]) <= 1e-8 * fac_c.h[0]
     if use_c:
         hs = fac_c.h[0]  # the step whose stored tangent serves it, exactly
@@ -245,12 +288,12 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
         ok, its = contact_step(fac, cf, x0[0], gaps, open_off, opts, tr, wk)
         return ok, its, hs
     fac = fac_c if use_c else fac_h
-    ok, its = newton(hs, t, x0, md, sch, gaps, open_off, fr, el, fac, opts, tr, wk)
+    ok, its = _step_any(hs, t, x0, md, sch, gaps, open_off, fr, el, fac, fac_g, opts, tr, wk)
     return ok, its, hs
 
 
 @jit_inline
-def _locate_gap_event(sense, hs, t, x0, md, sch, gaps, fr, el, fac_h, opts, tr, wk, off, counters):
+def _locate_gap_event(sense, hs, t, x0, md, sch, gaps, fr, el, facs, opts, tr, wk, off, counters):
     """Shorten the step to end at the earliest gap closure (``sense`` +1) or separation (−1) inside
     it, refining until the event's gaps are within d_tol of δ = 0. A penetration below d_tol is
     round-off, never an onset (identical neighbours at zero gap stay apart); a step carried past a
@@ -280,7 +323,7 @@ def _locate_gap_event(sense, hs, t, x0, md, sch, gaps, fr, el, fac_h, opts, tr, 
     ok = True
     for _ in range(8):
         hs = max(th_min * hs, 1e-12 * opts.h)
-        ok, its = newton(hs, t, x0, md, sch, gaps, off, fr, el, fac_h, opts, tr, wk)
+        ok, its = _step_any(hs, t, x0, md, sch, gaps, off, fr, el, facs[0], facs[2], opts, tr, wk)
         counters[CNT_NEWTON] += its
         if not ok:
             return False, hs
@@ -503,10 +546,10 @@ def newmark_run(sy, sch, gaps, fr, el, opts, n_steps, out_every, out):
     # (a segfault in about 1 of 10 SIGTERMs sent to a serial study at that moment)
     held = _hold_signals()
     try:
-        md, fac_h, fac_c, tr, wk, ls = _prepare(sy, sch, gaps, fr, el, opts.h)
+        md, fac_h, fac_c, fac_g, tr, wk, ls = _prepare(sy, sch, gaps, fr, el, opts.h)
     finally:
         _release_signals(held)
-    return _integrate(md, sch, gaps, fr, el, opts, (fac_h, fac_c), tr, wk, ls, n_steps, out_every,
+    return _integrate(md, sch, gaps, fr, el, opts, (fac_h, fac_c, fac_g), tr, wk, ls, n_steps, out_every,
                       out)  # fmt: skip
 
 
@@ -584,7 +627,7 @@ def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every
             if opts.locate_onset:
                 for sense in (1.0, -1.0):
                     if ok:
-                        ok, hs = _locate_gap_event(sense, hs, t, x0, md, sch, gaps, fr, el, fac_h,
+                        ok, hs = _locate_gap_event(sense, hs, t, x0, md, sch, gaps, fr, el, facs,
                                                    opts, tr, wk, open_off, counters)  # fmt: skip
                 if not ok:
                     if _retry_smaller(ctl, counters, opts.max_halvings):

@@ -60,10 +60,12 @@ Scheme = namedtuple("Scheme", "gamma beta alpha")
 #: of M, the influence
 #: vector, the dof below each dof (−1 at a base), the rocking dof tilting each dof's story (−1 if
 #: none) and the story height it tilts, the ground record and its step, the rows of every
-#: nonlinear element (gaps, then friction, then element families) for the Woodbury update.
+#: nonlinear element (gaps, then friction, then element families) for the Woodbury update, and the
+#: diagonal blocks of the band tangent with the element-family rows inside the band (``band_blocks``).
 Model = namedtuple(
     "Model",
-    "M C K Mi Lm Dm Mb Cb Kb MbT CbT KbT bw dense iota below tilt tilt_h ag ag_dt x_dof x_sign",
+    "M C K Mi Lm Dm Mb Cb Kb MbT CbT KbT bw dense iota below tilt tilt_h ag ag_dt x_dof x_sign "
+    "blk_el",
 )
 #: Gap elements: dofs and signs, gap [m], law id, parameters, undamped contact duration
 #: t_c = tc_coef v0^tc_exp, and their per-element state (in contact, v0 [m/s], δ and force at the
@@ -75,10 +77,12 @@ Friction = namedtuple("Friction", "dof kind law params bw normal state p event")
 #: Element families: family kind and law id per element, dofs and signs, parameters, committed and
 #: trial state rows, and δ, δ̇, force and tangents at the step start (d0, f0) and trial (d1...).
 Elements = namedtuple("Elements", "kind law dof sign params state trial d0 f0 d1 dd1 f1 kd cd")
-#: Factors of a tangent without contacts for the step ``h[0]``: band LDLᵀ, the inverse, the
-#: condensation of the gaps on it (Z = J⁻¹ B, S = Bᵀ J⁻¹ B) and, for small systems, the dense map of
-#: the linear step (Q, pg; zero rows when the band form is used).
-Factor = namedtuple("Factor", "h L D J_inv Z S Q pg")
+#: Factors of a tangent without contacts for the step ``h[0]``: band LDLᵀ, the dense inverse (0 × 0
+#: unless the system is small or has Coulomb slabs), the condensation of the gaps on it (Z = J⁻¹ B,
+#: S = Bᵀ J⁻¹ B; column c valid where ``have[c]``), for small systems the dense map of the linear
+#: step (Q, pg; zero rows when the band form is used), and the diagonal blocks of L
+#: (``band_blocks``: one per building without shared dofs).
+Factor = namedtuple("Factor", "h L D J_inv Z S Q pg have blk")
 #: What the caller passes: matrices M, C, K, the influence vector, the dof below each dof (−1 at a
 #: base), the rocking dof and height of each dof's story, the ground record and its step, and the
 #: rows of every nonlinear element.
@@ -88,9 +92,10 @@ Trial = namedtuple("Trial", "u1 v1 a1 d1 dd1 f1 kd1 cd1")
 #: Scratch arrays (never read before written within a call); Jb, Lw, Dw, e: the band tangent of a
 #: step length without stored factors, its LDLᵀ factors and a unit vector; Z[:, c] the column
 #: J⁻¹ b_c of element row c, and ``have`` the rows whose column is solved within the current step.
-#: nz, phi: the gaps with a nonzero force term α f0 − w f1 of the condensed step, and that term.
+#: nz, phi: the gaps with a nonzero force term α f0 − w f1 of the condensed step, and that term;
+#: live: the gaps that are not held open (its Newton rows).
 Work = namedtuple(
-    "Work", "R J vec Z S lin cw act nz phi Sm theta closing separating Jb Lw Dw e have"
+    "Work", "R J vec Z S lin cw act nz phi Sm theta closing separating Jb Lw Dw e have live"
 )
 #: The loop's own state: u, v, a at the step start, the control array (CT_*), the running energy
 #: sums (EN_*), the residuals at the step's start and end (HHT ledger), and the gaps held open (none;

@@ -111,19 +111,49 @@ def band_ldl_into(Jb, bw, L, D):
 @jit
 def band_solve(L, D, bw, r, x):
     """x = (L D⁻¹ Lᵀ)⁻¹ r in O(n bw), D holding the inverse pivots (x and r distinct arrays)."""
-    n = r.size
-    for i in range(n):
+    band_solve_range(L, D, bw, r, x, 0, r.size)
+
+
+@jit_internal
+def band_solve_range(L, D, bw, r, x, lo, hi):
+    """:func:`band_solve` on rows lo..hi−1 alone: exact when the matrix couples no row of that
+    range with another (a range of whole diagonal blocks, :func:`band_blocks`) and r is zero
+    outside it; x outside is left as it was."""
+    for i in range(lo, hi):
         s = r[i]
-        for j in range(max(0, i - bw), i):
+        for j in range(max(lo, i - bw), i):
             s -= L[i, j - i + bw] * x[j]
         x[i] = s
-    for i in range(n):
+    for i in range(lo, hi):
         x[i] *= D[i]
-    for i in range(n - 1, -1, -1):
+    for i in range(hi - 1, lo - 1, -1):
         s = x[i]
-        for j in range(i + 1, min(n, i + bw + 1)):
+        for j in range(i + 1, min(hi, i + bw + 1)):
             s -= L[j, i - j + bw] * x[j]
         x[i] = s
+
+
+@jit
+def band_blocks(Pb, bw):
+    """First and one-past-last row of the diagonal block holding each row (``blk[0]``,
+    ``blk[1]``) of the band pattern Pb: no nonzero couples two blocks (separate buildings), so the
+    band LDLᵀ factors are block diagonal too and a column J⁻¹ b is found on the blocks of b's dofs
+    alone (:func:`band_column`)."""
+    n = Pb.shape[0]
+    blk = np.zeros((2, n), dtype=np.int64)
+    start = 0
+    for i in range(1, n + 1):
+        cut = True
+        for j in range(max(0, i - bw), i):
+            for k in range(i, min(n, j + bw + 1)):
+                if Pb[j, k - j + bw] != 0.0:
+                    cut = False
+        if cut:
+            for m in range(start, i):
+                blk[0, m] = start
+                blk[1, m] = i
+            start = i
+    return blk
 
 
 @jit
@@ -229,8 +259,31 @@ def _mv(A, Ab, bw, dense, x, scale, out):
         _band_matvec_add(Ab, bw, x, scale, out)
 
 
+@jit_internal
+def band_column(L, D, bw, blk, dof, sign, c, e, x):
+    """x = J⁻¹ b_c from J's band LDLᵀ factors, b_c the signs of row c at its dofs (a dof of −1 is
+    the ground), solved on the diagonal blocks ``blk`` of its dofs (for a gap between two
+    buildings, their floors alone) and zero elsewhere; ``e`` is zero on entry and on return."""
+    n = e.size
+    lo = n
+    hi = 0
+    for s in range(dof.shape[1]):
+        k = dof[c, s]
+        if k >= 0:
+            e[k] += sign[c, s]
+            lo = min(lo, blk[0, k])
+            hi = max(hi, blk[1, k])
+    for i in range(n):
+        x[i] = 0.0
+    band_solve_range(L, D, bw, e, x, lo, hi)
+    for s in range(dof.shape[1]):
+        k = dof[c, s]
+        if k >= 0:
+            e[k] = 0.0
+
+
 @jit
-def woodbury_band_solve(L, D, bw, R, x_dof, x_sign, kc, Zr, have, S, y, x, e):
+def woodbury_band_solve(L, D, bw, blk, R, x_dof, x_sign, kc, Zr, have, S, y, x, e):
     """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R from the band LDLᵀ factors of J alone: J⁻¹ R by a band solve,
     and the columns J⁻¹ b_c of the rows with kc_c != 0 by band solves kept in Zr[:, c] (``have[c]``)
     for the later iterations of the same step: O(n bw) per iteration plus O(n bw) per row the first
@@ -248,17 +301,9 @@ def woodbury_band_solve(L, D, bw, R, x_dof, x_sign, kc, Zr, have, S, y, x, e):
         m += 1
         if have[c]:
             continue
-        for s in range(x_dof.shape[1]):
-            k = x_dof[c, s]
-            if k >= 0:
-                e[k] += x_sign[c, s]
-        band_solve(L, D, bw, e, x)
+        band_column(L, D, bw, blk, x_dof, x_sign, c, e, x)
         for i in range(n):
             Zr[i, c] = x[i]
-        for s in range(x_dof.shape[1]):
-            k = x_dof[c, s]
-            if k >= 0:
-                e[k] = 0.0
         have[c] = True
     for i in range(n):
         x[i] = y[i]
@@ -319,25 +364,21 @@ def inverse_column(J_inv, dof, sign, c, Z):
 
 
 @jit
-def _woodbury_solve(J_inv, L, D, bw, dense, R, el_dof, el_sign, kc, Z, S, y, x):
-    """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using J⁻¹ and the Sherman–Morrison–Woodbury identity.
+def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
+    """x = −(J + Σ kc_c b_c b_cᵀ)⁻¹ R using the dense J⁻¹ (small systems) and the
+    Sherman–Morrison–Woodbury identity.
 
     b_c holds the element's two signs at its dofs; only elements with kc_c != 0 enter, so the small
     system has the size of the active set. kc_c = inf is a constraint b_cᵀ x = 0 (1/kc = 0: a stuck
     slab). Returns False when that system is singular."""
     n = R.size
     n_el = kc.size
-    if dense:
-        for i in range(n):
-            acc = 0.0
-            for j in range(n):
-                acc += J_inv[i, j] * R[j]
-            y[i] = acc
-    else:
-        band_solve(L, D, bw, R, y)  # J⁻¹ R by the band factors; J⁻¹ columns only at contact dofs
     for i in range(n):
-        y[i] = -y[i]
-        x[i] = y[i]
+        acc = 0.0
+        for j in range(n):
+            acc += J_inv[i, j] * R[j]
+        y[i] = -acc
+        x[i] = -acc
     m = 0
     for c in range(n_el):
         if kc[c] == 0.0:

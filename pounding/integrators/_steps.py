@@ -43,6 +43,7 @@ from pounding.integrators._linalg import (
     _mv,
     _solve_small,
     _woodbury_solve,
+    band_column,
     band_ldl,
     band_ldl_into,
     band_solve,
@@ -228,6 +229,25 @@ def condense_map(J_inv, dof, sign, Z, S):
 
 
 @jit_internal
+def condensed_column(fac, gaps, q, e, x):
+    """Z[:, q] = J⁻¹ b_q and S[:, q] = Bᵀ Z[:, q] of gap q for the factor ``fac``, solved the first
+    time the condensed step needs them under it (O(n bw + C)); ``e`` zero, ``x`` scratch (n)."""
+    if fac.have[q]:
+        return
+    band_column(fac.L, fac.D, fac.L.shape[1] - 1, fac.blk, gaps.dof, gaps.sign, q, e, x)
+    for i in range(e.size):
+        fac.Z[i, q] = x[i]
+    for r in range(gaps.gap.size):
+        acc = 0.0
+        for s in range(gaps.dof.shape[1]):
+            k = gaps.dof[r, s]
+            if k >= 0:
+                acc += gaps.sign[r, s] * x[k]
+        fac.S[r, q] = acc
+    fac.have[q] = True
+
+
+@jit_internal
 def _forcing(alpha, f0, w, f1, nz, phi):
     """φ = α f0 − w f1 of every gap and the indices of the nonzero ones (their count returned)."""
     n_nz = 0
@@ -244,7 +264,8 @@ def _forcing(alpha, f0, w, f1, nz, phi):
 def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     """A step with gap elements, condensed onto the gaps. On entry ``tr`` holds the step of the
     linear system (no new contact force) taken with the tangent of ``fac``, whose Z and S are
-    :func:`condense_map`. The structure is linear apart from the contact forces, so the step ends at
+    :func:`condense_map` (solved column by column as gaps act, :func:`condensed_column`). The
+    structure is linear apart from the contact forces, so the step ends at
 
         u1 = u_lin + Z (α f0 − w f1),   δ = δ_lin + S (α f0 − w f1),   δ̇ = δ̇_lin + c1 (δ − δ_lin),
 
@@ -276,12 +297,29 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     tol_d = opts.tol * u_scale
     # start from the forces of the step start (f1 ≈ f0 inside a contact, 0 outside); sums run over
     # the gaps whose force term is nonzero (nz): O(C A), not O(C²), for a long row with few closed
+    e = wk.e
+    x = wk.vec[0]
+    # the Newton rows: gaps held open (every open gap while a closure is being located) carry no
+    # force, so their openings follow from the forces once, after the iterations (O(C A) once,
+    # not per iteration, for a long row with few gaps closed)
+    live = wk.live
+    n_live = 0
+    for c in range(n_el):
+        if off[c]:
+            tr.f1[c] = 0.0
+            tr.kd1[c] = 0.0
+            tr.cd1[c] = 0.0
+        else:
+            live[n_live] = c
+            n_live += 1
     n_nz = 0
     for q in range(n_el):
         if f0[q] != 0.0:
             nz[n_nz] = q
             n_nz += 1
-    for c in range(n_el):
+            condensed_column(fac, gaps, q, e, x)
+    for il in range(n_live):
+        c = live[il]
         acc = d_lin[c]
         for iq in range(n_nz):
             q = nz[iq]
@@ -293,13 +331,9 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     prev_active = True
     for it in range(opts.max_iter + 1):
         active = False
-        for c in range(n_el):
+        for il in range(n_live):
+            c = live[il]
             dd1[c] = dd_lin[c] + cf.c1 * (d1[c] - d_lin[c])
-            if off[c]:
-                tr.f1[c] = 0.0
-                tr.kd1[c] = 0.0
-                tr.cd1[c] = 0.0
-                continue
             fc, kc, cc = gap_force(gaps, c, d1[c], dd1[c])
             tr.f1[c] = fc
             tr.kd1[c] = kc
@@ -317,14 +351,19 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
         # r = δ − δ_lin − S (α f0 − w f1),  ∂r/∂δ = I + w S diag(k + c1 c): a column is zero
         # but for its unit diagonal where a gap has no stiffness
         n_act = 0
-        for q in range(n_el):
+        for il in range(n_live):
+            q = live[il]
             kq = w * (tr.kd1[q] + cf.c1 * tr.cd1[q])
             cw[2, q] = kq
             if kq != 0.0:
                 act[n_act] = q
                 n_act += 1
+                condensed_column(fac, gaps, q, e, x)
         n_nz = _forcing(alpha, f0, w, tr.f1, nz, phi)
-        for r in range(n_el):
+        for iq in range(n_nz):
+            condensed_column(fac, gaps, nz[iq], e, x)
+        for il in range(n_live):
+            r = live[il]
             acc = d1[r] - d_lin[r]
             for iq in range(n_nz):
                 q = nz[iq]
@@ -343,7 +382,8 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
         for ia in range(n_act):
             cw[3, act[ia]] = Sm[ia, rhs_col]
         big = 0.0
-        for c in range(n_el):
+        for il in range(n_live):
+            c = live[il]
             if cw[2, c] == 0.0:
                 for ja in range(n_act):
                     q = act[ja]
@@ -356,6 +396,14 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
         small = big <= tol_d
     if ok:
         n_nz = _forcing(alpha, f0, w, tr.f1, nz, phi)
+        for c in range(n_el):
+            if off[c]:
+                acc = d_lin[c]
+                for iq in range(n_nz):
+                    q = nz[iq]
+                    acc += S[c, q] * phi[q]
+                d1[c] = acc
+                dd1[c] = dd_lin[c] + cf.c1 * (acc - d_lin[c])
         for i in range(n):
             acc = 0.0
             for iq in range(n_nz):
@@ -391,12 +439,13 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
     # family rows within the band (yielding stories) join the band tangent, refactored at every
     # iteration (O(n bw²)); the Woodbury update keeps only the rows outside it
     own = in_band(el, md.bw)
-    # another step length: factor its band tangent once (O(n bw²)); each iteration then solves by
-    # band solves and the Woodbury update, O(n bw (1 + m)), not the dense O(n³) elimination
-    banded = not known and not md.dense and not own
+    # each iteration solves by band solves and the Woodbury update, O(n bw (1 + m)), not the dense
+    # O(n³) elimination; another step length first factors its band tangent once (O(n bw²))
+    banded = not md.dense and not own
     if banded:
-        tangent_band_into(hs, md.Mb, md.Cb, md.Kb, sch, wk.Jb)
-        band_ldl_into(wk.Jb, md.bw, wk.Lw, wk.Dw)
+        if not known:
+            tangent_band_into(hs, md.Mb, md.Cb, md.Kb, sch, wk.Jb)
+            band_ldl_into(wk.Jb, md.bw, wk.Lw, wk.Dw)
         for c in range(n_x):
             wk.have[c] = False
     old = wk.vec[0]
@@ -448,16 +497,18 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
             band_ldl_into(wk.Jb, md.bw, wk.Lw, wk.Dw)
             for c in range(n_x):
                 wk.have[c] = False
-            solved = woodbury_band_solve(wk.Lw, wk.Dw, md.bw, R, md.x_dof, md.x_sign, kc, wk.Z,
-                                         wk.have, wk.S, y, step, wk.e)  # fmt: skip
+            solved = woodbury_band_solve(wk.Lw, wk.Dw, md.bw, md.blk_el, R, md.x_dof, md.x_sign,
+                                         kc, wk.Z, wk.have, wk.S, y, step, wk.e)  # fmt: skip
             if not solved:
                 row_stiffness(cf, tr, fr, el, kc)  # every row back for the dense fallback
+        elif known and md.dense:
+            solved = _woodbury_solve(fac.J_inv, R, md.x_dof, md.x_sign, kc, wk.Z, wk.S, y, step)
         elif known:
-            solved = _woodbury_solve(fac.J_inv, fac.L, fac.D, md.bw, md.dense, R, md.x_dof,
-                                     md.x_sign, kc, wk.Z, wk.S, y, step)  # fmt: skip
+            solved = woodbury_band_solve(fac.L, fac.D, md.bw, fac.blk, R, md.x_dof, md.x_sign,
+                                         kc, wk.Z, wk.have, wk.S, y, step, wk.e)  # fmt: skip
         elif banded:
-            solved = woodbury_band_solve(wk.Lw, wk.Dw, md.bw, R, md.x_dof, md.x_sign, kc, wk.Z,
-                                         wk.have, wk.S, y, step, wk.e)  # fmt: skip
+            solved = woodbury_band_solve(wk.Lw, wk.Dw, md.bw, fac.blk, R, md.x_dof, md.x_sign,
+                                         kc, wk.Z, wk.have, wk.S, y, step, wk.e)  # fmt: skip
         if not solved:
             J = wk.J
             tangent_dense(cf, md.M, md.C, md.K, J)
@@ -556,15 +607,22 @@ def equilibrium(g1, md, tr, gaps, fr, el, rhs):
 
 
 @jit_setup
-def refactor(h, md, sch, fac):
+def refactor(h, md, sch, fac, Jb):
     """Factor the tangent without contacts of a step of length h into ``fac`` (in place: arrays
-    reassigned inside the loop would cost reference-count traffic on every step)."""
-    L, D = band_ldl(tangent_band(h, md.Mb, md.Cb, md.Kb, sch), md.bw)
-    _band_inverse(L, D, md.bw, fac.J_inv)
-    for i in range(D.size):
-        fac.D[i] = D[i]
-        for j in range(md.bw + 1):
-            fac.L[i, j] = L[i, j]
+    reassigned inside the loop would cost reference-count traffic on every step; ``Jb`` scratch).
+
+    The dense inverse and the whole condensation (Z, S) only where ``fac.J_inv`` is allocated
+    (small systems, Coulomb slabs); otherwise the condensed step solves the columns of the gaps
+    that act under this factor when they first do (:func:`condensed_column`): a row of buildings
+    changes its contact step at every impact, and the O(n² + n C + C²) condensation of every gap
+    was most of its cost at 400 dofs."""
+    tangent_band_into(h, md.Mb, md.Cb, md.Kb, sch, Jb)
+    band_ldl_into(Jb, md.bw, fac.L, fac.D)
     fac.h[0] = h
     n_el = fac.Z.shape[1]
-    condense_map(fac.J_inv, md.x_dof[:n_el], md.x_sign[:n_el], fac.Z, fac.S)
+    eager = fac.J_inv.shape[0] == fac.D.size
+    if eager:
+        _band_inverse(fac.L, fac.D, md.bw, fac.J_inv)
+        condense_map(fac.J_inv, md.x_dof[:n_el], md.x_sign[:n_el], fac.Z, fac.S)
+    for c in range(n_el):
+        fac.have[c] = eager
