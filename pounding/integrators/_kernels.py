@@ -125,7 +125,8 @@ def _prepare(sy, sch, gaps, fr, el, h):
     Kb = to_band(sy.K, bw)
     L_m, D_m = band_ldl(Mb, bw)
     dense = n * (2 * bw + 1) * 3 >= DENSE_MAP_RATIO * n * n
-    # diagonal-major copies for the quadratic forms of the energy ledger
+    # the diagonal blocks (separate buildings) of the band tangent, and of the tangent with the
+    # family rows that Newton takes into the band
     pattern = np.abs(Mb) + np.abs(Cb) + np.abs(Kb)
     blk = band_blocks(pattern, bw)
     for e in range(el.kind.size):
@@ -134,7 +135,8 @@ def _prepare(sy, sch, gaps, fr, el, h):
                 i = el.dof[e, s]
                 j = el.dof[e, r]
                 if i >= 0 and j >= 0 and abs(i - j) <= bw:
-                    pattern[i, j - i + bw] = 1.0  # a family row the band tangent takes in
+                    pattern[i, j - i + bw] = 1.0
+    # diagonal-major copies for the quadratic forms of the energy ledger
     md = Model(sy.M, sy.C, sy.K, Mi, L_m, D_m, Mb, Cb, Kb, _transpose(Mb), _transpose(Cb),
                _transpose(Kb), bw, dense, sy.iota, sy.below, sy.tilt, sy.tilt_h, sy.ag, sy.ag_dt,
                sy.x_dof, sy.x_sign, band_blocks(pattern, bw))  # fmt: skip
@@ -238,8 +240,8 @@ def _choose_step(t, t_next, gaps, ctl, opts, open_off):
 def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, opts, tr, wk, off):
     """Take the step [t, t + hs] by the cheapest exact route: the linear step while nothing acts,
     then, if a gap closes, the step condensed onto the gaps (no friction, no element families) or
-    Newton over every family. ``facs`` = (base step, contact step) factors, ``off`` = (no gap held
-    open, open gaps held open). Returns (ok, Newton iterations, hs: the length taken)."""
+    Newton over every family. ``facs`` = the factors of the base step, of the contact step and of
+    any other length (:func:`_step_any`), ``off`` = (no gap held open, open gaps held open). Returns (ok, Newton iterations, hs: the length taken)."""
     fac_h, fac_c, fac_g = facs
     none_off, open_off = off
     h = opts.h
