@@ -25,9 +25,9 @@ from setuptools.command.build_py import build_py
 _COMPILE = (
     "import json, numba, sys; from pounding.warmup import warm_up; warm_up(every_path=True); "
     "import pounding; assert pounding.__file__.startswith(sys.argv[1]), pounding.__file__; "
-    "from pounding._numba import source_stamp; "
+    "from pounding._numba import SHIPPED_MARKER, source_stamp; "
     "print(json.dumps({'numba': numba.__version__, 'python': sys.version.split()[0], "
-    "'source_stamp': source_stamp()}))"
+    "'source_stamp': source_stamp(), 'marker': SHIPPED_MARKER}))"
 )
 
 
@@ -45,7 +45,9 @@ class build_py_with_kernels(build_py):
         env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
         path = [str(package.parent), *filter(None, [env.get("PYTHONPATH")])]
         env.update(PYTHONPATH=os.pathsep.join(path), PYTHONDONTWRITEBYTECODE="1")
-        print("compiling the numerical kernels into the wheel (about 90 s, once)", flush=True)
+        print(
+            "compiling the numerical kernels into the wheel (about two minutes, once)", flush=True
+        )
         start = time.perf_counter()
         res = subprocess.run(
             [sys.executable, "-c", _COMPILE, str(package)],
@@ -61,8 +63,9 @@ class build_py_with_kernels(build_py):
             )
             return
         info = json.loads(res.stdout.strip().splitlines()[-1])
+        marker = info.pop("marker")  # the package names its own marker file
         info["compile_seconds"] = round(time.perf_counter() - start, 1)
-        (package / "_shipped_kernels.json").write_text(json.dumps(info, indent=1) + "\n")
+        (package / marker).write_text(json.dumps(info, indent=1) + "\n")
         print(f"kernels compiled in {info['compile_seconds']} s", flush=True)
 
 
