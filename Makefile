@@ -30,9 +30,10 @@ test-setup:
 
 # After the tests: install pounding as a user would (plain `pip install .`, and -e with each extra alone)
 # into throw-away venvs and run `pounding run` + read the NetCDF back (tests/install_check.py).
-# The tests run in one worker process per core (pytest-xdist).
+# The tests run in one worker process per core (pytest-xdist), each test module in one worker (loadscope:
+# its module-scoped fixtures and cached references are computed once, not once per worker).
 test: $(STAMP) test-setup
-	$(BIN)/python -m pytest -q -n auto
+	$(BIN)/python -m pytest -q -n auto --dist loadscope
 	$(BIN)/python tests/install_check.py
 
 # The documentation site (user guide from the README, the case-file reference, the design, the API from
