@@ -100,23 +100,47 @@ def _package_locators() -> None:
 _package_locators()
 
 
+def _load_overload(self, sig, target_context):
+    # numba refreshes its whole target context (imports ~100 modules that register the typing and
+    # lowering of numpy, lists, dicts..., ~0.3 s) before it reads a cached function, though the
+    # machine code read back needs only the reference-counting runtime's symbols (the others are the
+    # C API, numba's helper library and libm, registered when the context is created). A miss still
+    # compiles, and numba's compiler refreshes the context itself first.
+    from numba.core.runtime import rtsys
+
+    rtsys.initialize(target_context)
+    with self._guard_against_spurious_io_errors():
+        return self._load_overload(sig, target_context)
+
+
+def _cached(dispatcher):
+    cache = getattr(dispatcher, "_cache", None)
+    if hasattr(cache, "_load_overload") and hasattr(cache, "_guard_against_spurious_io_errors"):
+        cache.load_overload = _load_overload.__get__(cache)
+    return dispatcher
+
+
 def jit(func):
     """Compile ``func`` in nopython mode, cached on disk; ``func.py_func`` stays the Python original."""
-    return numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True)(func)
+    return _cached(numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True)(func))
 
 
 def jit_inline(func):
     """:func:`jit`, inlined into its callers by numba (no call boundary to pass arrays across)."""
-    return numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True, inline="always")(func)
+    return _cached(
+        numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True, inline="always")(func)
+    )
 
 
 def jit_setup(func):
     """:func:`jit` for a function only compiled code calls, that allocates (set-up, refactoring):
     reference counted, without a CPython entry point."""
     # _nrt is set, not inherited: numba compiles a callee with its caller's _nrt unless it is set
-    return numba.njit(
-        cache=True, fastmath=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=True
-    )(func)
+    return _cached(
+        numba.njit(
+            cache=True, fastmath=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=True
+        )(func)
+    )
 
 
 def jit_kernel(func):
@@ -124,13 +148,15 @@ def jit_kernel(func):
     (``_nrt=False``), whose atomic increments on every array of every argument group cost the
     time loop ~4 µs a step. Arrays it receives stay owned by the caller; allocating inside is a
     compile error, not a leak."""
-    return numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True, _nrt=False)(func)
+    return _cached(numba.njit(cache=True, fastmath=False, no_cfunc_wrapper=True, _nrt=False)(func))
 
 
 def jit_internal(func):
     """:func:`jit_kernel` for a function only compiled code calls: no CPython entry point is
     generated (unboxing a group of arrays costs compile time), so ``func`` cannot be called from
     Python."""
-    return numba.njit(
-        cache=True, fastmath=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False
-    )(func)
+    return _cached(
+        numba.njit(
+            cache=True, fastmath=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, _nrt=False
+        )(func)
+    )

@@ -86,6 +86,32 @@ def test_run_on_cold_cache_prints_the_notice_first(tmp_path, monkeypatch):
     assert "cache in " in first
 
 
+def test_kernels_read_from_the_cache_skip_numba_compiler_registries():
+    # numba refreshes its whole target context (~0.3 s of imports) before reading a cached function;
+    # pounding._numba reads the cache with the runtime alone. The first process may compile (a cold
+    # cache after an edit); the second reads every kernel back and must not load the registries,
+    # and its results must equal the first's.
+    code = (
+        "import sys, numpy as np\nimport pounding\n"
+        f"r = pounding.simulate(pounding.load_case({str(ROOT / 'examples' / 'two_sdof.toml')!r}))\n"
+        "print(repr(float(np.abs(r['displacement']).max())), "
+        "'numba.np.polynomial.polynomial_core' in sys.modules)"
+    )
+    runs = []
+    for _ in range(2):
+        res = subprocess.run(
+            [sys.executable, "-c", code],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env={**os.environ, "PYTHONPATH": str(ROOT)},
+            timeout=600,
+        )
+        assert res.returncode == 0, res.stderr
+        runs.append(res.stdout.split())
+    assert runs[1] == [runs[0][0], "False"]
+
+
 def test_warmup_verb_reports_time_and_cache(monkeypatch):
     monkeypatch.setattr(pounding.warmup, "is_warm", lambda: True)
     calls = []
