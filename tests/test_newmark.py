@@ -273,6 +273,44 @@ def test_band_blocks_are_the_uncoupled_diagonal_blocks():
     assert [tuple(p) for p in blk.T] == [(0, 4)] * 4 + [(4, 12)] * 8
 
 
+@pytest.mark.parametrize(
+    ("hs", "narrow"), [(2.0e-5, True), (0.5, False)], ids=["contact_substep", "long_step"]
+)
+def test_unit_column_of_an_80_story_building_stops_where_it_has_decayed(hs, narrow):
+    """J⁻¹ e_k of a shear building's step tangent J = c0 M + c1 C + K against np.linalg.solve: at a
+    contact's sub-step the entries fall ~1e-5 per floor and the solve stops a few floors from k
+    (the dropped entries below 2⁻⁶⁴ of the largest); at a long step they decay slowly and it runs
+    over the whole block. Two buildings in one band: the column stays in k's."""
+    from pounding.integrators import _kernels as kn
+    from pounding.integrators._linalg import DECAY, unit_column
+
+    a_bld = ShearBuilding.uniform("A", 80, period=4.0, mass=1.0e6)
+    b_bld = ShearBuilding.uniform("B", 30, period=1.5, mass=5.0e5)
+    system = assemble([a_bld, b_bld], [Contact("A", "B", 0.05, "linear", k=1e9)])
+    M, C, K = system.mass, system.damping, system.stiffness
+    beta, gamma = 0.25, 0.5
+    J = M / (beta * hs**2) + gamma / (beta * hs) * C + K
+    bw = kn.bandwidth(M, C, K)
+    assert bw == 1
+    L, D = kn.band_ldl(kn.to_band(J, bw), bw)
+    blk = kn.band_blocks(sum(np.abs(kn.to_band(m, bw)) for m in (M, C, K)), bw)
+    n = system.n_dof
+    for k in (0, 37, 79, 95):
+        y = np.zeros(n)
+        lo, hi = unit_column.py_func(L, D, bw, k, blk[0, k], blk[1, k], y)
+        ref = np.linalg.solve(J, np.eye(n)[k])
+        assert blk[0, k] <= lo <= k < hi <= blk[1, k]
+        assert np.all(y[:lo] == 0.0) and np.all(y[hi:] == 0.0)
+        big = abs(ref).max()
+        dropped = np.concatenate([ref[:lo], ref[hi:]])
+        assert dropped.size == 0 or abs(dropped).max() <= 4 * DECAY * big
+        np.testing.assert_allclose(y[lo:hi], ref[lo:hi], rtol=1e-10, atol=1e-15 * big)
+        if narrow:
+            assert hi - lo <= 20  # of 80 floors
+        else:
+            assert (lo, hi) == (blk[0, k], blk[1, k])
+
+
 def test_large_row_takes_the_band_path_and_agrees_with_ivp():
     # 2 × 15 floors: the open-gap steps use the band factors (O(n)), not the dense map
     from pounding.integrators import _kernels as kn
@@ -401,16 +439,17 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
     tr = kn.Trial(u1, v1, a1, d1, dd1, f1, kd1, cd1)
     kn.dense_step(Q, pg, g_eff, cf, (u, v, a), tr)
     J = M / (beta * hs**2) + w * (gamma / (beta * hs) * C + K)
-    Z, S = np.zeros((n, n_el)), np.zeros((n_el, n_el))
+    Z, S = np.zeros((n_el, n)), np.zeros((n_el, n_el))
+    zr = np.zeros((n_el, 2 * el.el_dof.shape[1]), dtype=np.int64)
     have = np.zeros(n_el, dtype=bool)
     if columns == "precomputed":
-        kn.condense_map(np.linalg.inv(J), el.el_dof, el.el_sign, Z, S)
+        kn.condense_map(np.linalg.inv(J), el.el_dof, el.el_sign, Z, S, zr)
         have[:] = True
     bw = kn.bandwidth(M, C, K)
     L, D = kn.band_ldl(kn.to_band(J, bw), bw)
     blk = kn.band_blocks(sum(np.abs(kn.to_band(m, bw)) for m in (M, C, K)), bw)
     assert blk[0, 3] == 3 and blk[1, 0] == 3 and blk[1, 3] == n  # the two buildings' floors
-    fac = kn.Factor(np.array([hs]), L, D, np.empty((0, 0)), Z, S, Q, pg, have, blk)
+    fac = kn.Factor(np.array([hs]), L, D, np.empty((0, 0)), Z, S, Q, pg, have, blk, zr)
     gaps = kn.Gaps(el.el_dof, el.el_sign, el.el_gap, el.el_law, el.el_params, None, None, closed,
                    v0, d0, f0, None, None, None, f0)  # fmt: skip
     opts = kn.Options(1e-12, 25, 0, True, 0.0, 0.0, False, 20.0, hs)
@@ -429,10 +468,8 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
             if el.el_dof[c, s] >= 0:
                 B_el[el.el_dof[c, s], c] = el.el_sign[c, s]
     Z_ref = np.linalg.solve(J, B_el)
-    np.testing.assert_allclose(
-        Z[:, have], Z_ref[:, have], rtol=1e-10, atol=1e-14 * abs(Z_ref).max()
-    )
-    np.testing.assert_allclose(S[:, have], (B_el.T @ Z_ref)[:, have], rtol=1e-10, atol=1e-16)
+    np.testing.assert_allclose(Z[have].T, Z_ref[:, have], rtol=1e-10, atol=1e-14 * abs(Z_ref).max())
+    np.testing.assert_allclose(S[have].T, (B_el.T @ Z_ref)[:, have], rtol=1e-10, atol=1e-16)
     # the full step equations, independently
     a_new = (u1 - u) / (beta * hs**2) - v / (beta * hs) - (0.5 / beta - 1.0) * a
     v_new = v + hs * ((1.0 - gamma) * a + gamma * a_new)

@@ -43,13 +43,12 @@ from pounding.integrators._linalg import (
     _mv,
     _solve_small,
     _woodbury_solve,
-    band_column,
     band_ldl,
     band_ldl_into,
     band_solve,
     bandwidth,
-    inverse_column,
     to_band,
+    unit_column,
     woodbury_band_solve,
 )
 from pounding.system import FRICTION_COULOMB
@@ -212,38 +211,83 @@ def linear_step_coulomb(md, fac, g_eff, cf, x0, fr, tr, wk):
 
 
 @jit_kernel
-def condense_map(J_inv, dof, sign, Z, S):
-    """Z = J⁻¹ B (n × C) and S = Bᵀ J⁻¹ B (C × C), B the gap elements' sign columns: how contact
-    forces move every dof and every gap through one step of the linear system (in place)."""
-    n_el = Z.shape[1]
+def condense_map(J_inv, dof, sign, Z, S, zr):
+    """Z = (J⁻¹ B)ᵀ (C × n: row c is J⁻¹ b_c, its rows of J⁻¹ B written ``zr[c]``) and S = Bᵀ J⁻¹ B
+    (C × C, symmetric: row c is column c), B the gap elements' sign columns: how contact forces
+    move every dof and every gap through one step of the linear system (in place)."""
+    n_el = Z.shape[0]
+    n = Z.shape[1]
     for c in range(n_el):
-        inverse_column(J_inv, dof, sign, c, Z)
-    for r in range(n_el):
-        for c in range(n_el):
-            acc = 0.0
+        for i in range(n):
+            z = 0.0
             for s in range(dof.shape[1]):
-                k = dof[r, s]
+                k = dof[c, s]
                 if k >= 0:
-                    acc += sign[r, s] * Z[k, c]
-            S[r, c] = acc
+                    z += sign[c, s] * J_inv[i, k]
+            Z[c, i] = z
+        zr[c, 0] = 0
+        zr[c, 1] = n
+        for s in range(2, zr.shape[1]):
+            zr[c, s] = 0
+    for c in range(n_el):
+        condensed_row(dof, sign, Z, S, c)
 
 
 @jit_internal
-def condensed_column(fac, gaps, q, e, x):
-    """Z[:, q] = J⁻¹ b_q and S[:, q] = Bᵀ Z[:, q] of gap q for the factor ``fac``, solved the first
-    time the condensed step needs them under it (O(n bw + C)); ``e`` zero, ``x`` scratch (n)."""
+def condensed_row(dof, sign, Z, S, q):
+    """S[q] = Bᵀ Z[q]: how gap q's force opens every gap."""
+    for r in range(dof.shape[0]):
+        acc = 0.0
+        for s in range(dof.shape[1]):
+            k = dof[r, s]
+            if k >= 0:
+                acc += sign[r, s] * Z[q, k]
+        S[q, r] = acc
+
+
+@jit_internal
+def condensed_column(fac, gaps, q, e):
+    """Z[q] = J⁻¹ b_q and S[q] = Bᵀ Z[q] of gap q for the factor ``fac``, solved the first time the
+    condensed step needs them under it: one :func:`unit_column` per dof of the gap (a few floors
+    of each building, where J⁻¹ is not negligible), then O(C) for S. ``e`` is zero on entry and on
+    return. Z[q] is zero outside its rows ``fac.zr[q]`` (pairs of first, one-past-last row)."""
     if fac.have[q]:
         return
-    band_column(fac.L, fac.D, fac.L.shape[1] - 1, fac.blk, gaps.dof, gaps.sign, q, e, x)
-    for i in range(e.size):
-        fac.Z[i, q] = x[i]
-    for r in range(gaps.gap.size):
-        acc = 0.0
-        for s in range(gaps.dof.shape[1]):
-            k = gaps.dof[r, s]
-            if k >= 0:
-                acc += gaps.sign[r, s] * x[k]
-        fac.S[r, q] = acc
+    Z = fac.Z
+    zr = fac.zr
+    n_seg = zr.shape[1] // 2
+    for p in range(n_seg):  # the rows a previous factor wrote
+        for i in range(zr[q, 2 * p], zr[q, 2 * p + 1]):
+            Z[q, i] = 0.0
+        zr[q, 2 * p] = 0
+        zr[q, 2 * p + 1] = 0
+    bw = fac.L.shape[1] - 1
+    p = 0
+    for s in range(gaps.dof.shape[1]):
+        k = gaps.dof[q, s]
+        if k < 0:
+            continue
+        lo, hi = unit_column(fac.L, fac.D, bw, k, fac.blk[0, k], fac.blk[1, k], e)
+        sg = gaps.sign[q, s]
+        for i in range(lo, hi):
+            Z[q, i] += sg * e[i]
+            e[i] = 0.0
+        zr[q, 2 * p] = lo
+        zr[q, 2 * p + 1] = hi
+        p += 1
+    # overlapping rows (two dofs of one building) merged, so each row is read once
+    merged = True
+    while merged:
+        merged = False
+        for a in range(p):
+            for b in range(a + 1, p):
+                if zr[q, 2 * b] < zr[q, 2 * a + 1] and zr[q, 2 * a] < zr[q, 2 * b + 1]:
+                    zr[q, 2 * a] = min(zr[q, 2 * a], zr[q, 2 * b])
+                    zr[q, 2 * a + 1] = max(zr[q, 2 * a + 1], zr[q, 2 * b + 1])
+                    zr[q, 2 * b] = 0
+                    zr[q, 2 * b + 1] = 0
+                    merged = True
+    condensed_row(gaps.dof, gaps.sign, Z, fac.S, q)
     fac.have[q] = True
 
 
@@ -267,10 +311,10 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     :func:`condense_map` (solved column by column as gaps act, :func:`condensed_column`). The
     structure is linear apart from the contact forces, so the step ends at
 
-        u1 = u_lin + Z (α f0 − w f1),   δ = δ_lin + S (α f0 − w f1),   δ̇ = δ̇_lin + c1 (δ − δ_lin),
+        u1 = u_lin + Zᵀ (α f0 − w f1),   δ = δ_lin + S (α f0 − w f1),   δ̇ = δ̇_lin + c1 (δ − δ_lin),
 
-    and Newton runs on the C gap openings alone (no n × n work per iteration) before one O(nC)
-    update of u1, v1, a1. Only the A gaps with a contact stiffness couple the Newton system, so each
+    and Newton runs on the C gap openings alone (no n × n work per iteration) before one update
+    of u1, v1, a1 over the rows each acting gap's column reaches. Only the A gaps with a contact stiffness couple the Newton system, so each
     iteration solves A × A and back-substitutes the others: O(A³ + CA), not O(C³), for a long row
     of contacts with few closed. Returns (ok, Newton iterations), as :func:`newton`."""
     n = u.size
@@ -298,7 +342,6 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
     # start from the forces of the step start (f1 ≈ f0 inside a contact, 0 outside); sums run over
     # the gaps whose force term is nonzero (nz): O(C A), not O(C²), for a long row with few closed
     e = wk.e
-    x = wk.vec[0]
     # the Newton rows: gaps held open (every open gap while a closure is being located) carry no
     # force, so their openings follow from the forces once, after the iterations (O(C A) once,
     # not per iteration, for a long row with few gaps closed)
@@ -317,13 +360,13 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
         if f0[q] != 0.0:
             nz[n_nz] = q
             n_nz += 1
-            condensed_column(fac, gaps, q, e, x)
+            condensed_column(fac, gaps, q, e)
     for il in range(n_live):
         c = live[il]
         acc = d_lin[c]
         for iq in range(n_nz):
             q = nz[iq]
-            acc -= S[c, q] * f0[q]
+            acc -= S[q, c] * f0[q]
         d1[c] = acc
     ok = False
     n_it = opts.max_iter
@@ -358,22 +401,22 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
             if kq != 0.0:
                 act[n_act] = q
                 n_act += 1
-                condensed_column(fac, gaps, q, e, x)
+                condensed_column(fac, gaps, q, e)
         n_nz = _forcing(alpha, f0, w, tr.f1, nz, phi)
         for iq in range(n_nz):
-            condensed_column(fac, gaps, nz[iq], e, x)
+            condensed_column(fac, gaps, nz[iq], e)
         for il in range(n_live):
             r = live[il]
             acc = d1[r] - d_lin[r]
             for iq in range(n_nz):
                 q = nz[iq]
-                acc -= S[r, q] * phi[q]
+                acc -= S[q, r] * phi[q]
             cw[3, r] = -acc
         for ia in range(n_act):
             r = act[ia]
             for ja in range(n_act):
                 q = act[ja]
-                Sm[ia, ja] = S[r, q] * cw[2, q]
+                Sm[ia, ja] = S[q, r] * cw[2, q]
             Sm[ia, ia] += 1.0
             Sm[ia, rhs_col] = cw[3, r]
         if not _solve_small(Sm, n_act):
@@ -387,7 +430,7 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
             if cw[2, c] == 0.0:
                 for ja in range(n_act):
                     q = act[ja]
-                    cw[3, c] -= S[c, q] * cw[2, q] * cw[3, q]
+                    cw[3, c] -= S[q, c] * cw[2, q] * cw[3, q]
             d1[c] += cw[3, c]
             big = max(big, abs(cw[3, c]))
         if not math.isfinite(big):
@@ -401,17 +444,19 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
                 acc = d_lin[c]
                 for iq in range(n_nz):
                     q = nz[iq]
-                    acc += S[c, q] * phi[q]
+                    acc += S[q, c] * phi[q]
                 d1[c] = acc
                 dd1[c] = dd_lin[c] + cf.c1 * (acc - d_lin[c])
-        for i in range(n):
-            acc = 0.0
-            for iq in range(n_nz):
-                c = nz[iq]
-                acc += Z[i, c] * phi[c]
-            tr.u1[i] += acc
-            tr.v1[i] += cf.c1 * acc
-            tr.a1[i] += cf.c0 * acc
+        zr = fac.zr
+        for iq in range(n_nz):
+            c = nz[iq]
+            p = phi[c]
+            for sg in range(zr.shape[1] // 2):
+                for i in range(zr[c, 2 * sg], zr[c, 2 * sg + 1]):
+                    z = Z[c, i] * p
+                    tr.u1[i] += z
+                    tr.v1[i] += cf.c1 * z
+                    tr.a1[i] += cf.c0 * z
     return ok, n_it
 
 
@@ -619,10 +664,10 @@ def refactor(h, md, sch, fac, Jb):
     tangent_band_into(h, md.Mb, md.Cb, md.Kb, sch, Jb)
     band_ldl_into(Jb, md.bw, fac.L, fac.D)
     fac.h[0] = h
-    n_el = fac.Z.shape[1]
+    n_el = fac.Z.shape[0]
     eager = fac.J_inv.shape[0] == fac.D.size
     if eager:
         _band_inverse(fac.L, fac.D, md.bw, fac.J_inv)
-        condense_map(fac.J_inv, md.x_dof[:n_el], md.x_sign[:n_el], fac.Z, fac.S)
+        condense_map(fac.J_inv, md.x_dof[:n_el], md.x_sign[:n_el], fac.Z, fac.S, fac.zr)
     for c in range(n_el):
         fac.have[c] = eager
