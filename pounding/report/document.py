@@ -26,6 +26,13 @@ _MAX_ROWS = 40
 _RC = {"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "svg.hashsalt": "pounding"}
 
 
+def keep_layout(fig: Figure) -> None:
+    """Keep the positions the figure's layout engine found when it was last drawn: the same
+    figure is drawn for the HTML (SVG) and the PDF (raster), and constrained layout's search is
+    a third of a drawing's cost. Positions are fractions of the figure, the same at any dpi."""
+    fig.set_layout_engine("none")
+
+
 @dataclasses.dataclass
 class Table:
     """A table: header, rows of cells (strings) and an optional caption (a note under it)."""

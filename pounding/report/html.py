@@ -13,13 +13,14 @@ from markupsafe import Markup
 from matplotlib.figure import Figure
 
 from pounding._version import __version__
-from pounding.report.document import _RC, Report, Table
+from pounding.report.document import _RC, Report, Table, keep_layout
 
 
 def _svg(fig: Figure) -> Markup:
     buf = io.StringIO()
     with matplotlib.rc_context(_RC):
         fig.savefig(buf, format="svg", metadata={"Date": None})
+    keep_layout(fig)
     text = buf.getvalue()
     text = text[text.index("<svg") :]  # drop the XML prolog and DOCTYPE
     return Markup(text)  # matplotlib escapes the figure's text itself

@@ -4,21 +4,21 @@ its caption beneath it."""
 
 from __future__ import annotations
 
-import io
 import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
-from matplotlib.image import imread
 from matplotlib.lines import Line2D
 
 from pounding._version import __version__
 from pounding.plots import plain_text
-from pounding.report.document import _RC, Plot, Report, Table
+from pounding.report.document import _RC, Plot, Report, Table, keep_layout
 
 
 class _PageWriter:
@@ -163,6 +163,23 @@ def render_pdf(report: Report, path: str | Path) -> Path:
 FIGURE_DPI = 200
 
 
+def raster(fig: Figure, dpi: float) -> np.ndarray:
+    """The figure drawn by Agg at ``dpi`` as RGBA pixels (what ``savefig(format="png")`` would
+    encode, without encoding and decoding a PNG). Its layout is kept from then on (see
+    :func:`pounding.report.document.keep_layout`)."""
+    old = fig.dpi
+    canvas = FigureCanvasAgg(fig)
+    try:
+        fig.set_dpi(dpi)
+        with matplotlib.rc_context(_RC):
+            canvas.draw()
+        image = np.array(canvas.buffer_rgba())
+    finally:
+        fig.set_dpi(old)
+    keep_layout(fig)
+    return image
+
+
 def _figure_pages(pdf: PdfPages, figures: Sequence[Plot], section: str, n: int) -> None:
     """The figures of a section, each with its caption beneath it, as many to an A4 page as fit
     (two of the usual height); a figure taller than the page is scaled down to fit."""
@@ -171,10 +188,7 @@ def _figure_pages(pdf: PdfPages, figures: Sequence[Plot], section: str, n: int) 
     page: Figure | None = None
     y = 0.0
     for k, p in enumerate(figures, 1):
-        buf = io.BytesIO()
-        p.figure.savefig(buf, format="png", dpi=FIGURE_DPI)
-        buf.seek(0)
-        image = imread(buf)
+        image = raster(p.figure, FIGURE_DPI)
         fw, fh = p.figure.get_size_inches()
         scale = min(1.0, usable_w / fw, (usable_h - 0.6) / fh)
         w, h = fw * scale, fh * scale
