@@ -80,8 +80,14 @@ class GroundMotion:
 
     @property
     def time(self) -> np.ndarray:
-        """Sample times [s]."""
-        return self.dt * np.arange(self.npts)
+        """Sample times [s] (read-only)."""
+        # built once: `at` is called per time step by solve_ivp right-hand sides
+        time = self.__dict__.get("_time")
+        if time is None:
+            time = self.dt * np.arange(self.npts)
+            time.setflags(write=False)
+            object.__setattr__(self, "_time", time)
+        return time
 
     @property
     def pga(self) -> float:
