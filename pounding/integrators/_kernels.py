@@ -158,21 +158,20 @@ def _prepare(sy, sch, gaps, fr, el, h):
               np.zeros(n_x, dtype=np.bool_), np.zeros(n_el, dtype=np.int64))  # fmt: skip
     # the dense inverse where the dense map is used or Coulomb slabs read its columns
     n_inv = n if dense or fr.dof.size > 0 else 0
-    n_zr = 2 * md.x_dof.shape[1]
+    n_have = 1 + 2 * md.x_dof.shape[1]  # solved, then a row range per dof of a gap
     fac_h = Factor(np.zeros(1), np.zeros((n, bw + 1)), np.zeros(n), np.empty((n_inv, n_inv)),
                    np.zeros((n_el, n)), np.zeros((n_el, n_el)), Q, pg,
-                   np.zeros(n_el, dtype=np.bool_), blk,
-                   np.zeros((n_el, n_zr), dtype=np.int64))  # fmt: skip
+                   np.zeros((n_el, n_have), dtype=np.int64), blk)  # fmt: skip
     refactor(h, md, sch, fac_h, wk.Jb)
     fac_c = Factor(fac_h.h.copy(), fac_h.L.copy(), fac_h.D.copy(), fac_h.J_inv.copy(),
                    fac_h.Z.copy(), fac_h.S.copy(), np.zeros((0, 3 * n)), np.zeros(0),
-                   fac_h.have.copy(), blk, fac_h.zr.copy())  # fmt: skip
+                   fac_h.have.copy(), blk)  # fmt: skip
     # the factor of any other step length (graded, before a separation, located events) for the
     # condensed step of a large system of gaps alone; unused (empty) otherwise
     k = n_el if _condensed_any(md, fr, el) else 0
     fac_g = Factor(np.zeros(1), np.zeros((n, bw + 1)), np.zeros(n), np.empty((0, 0)),
                    np.zeros((k, n)), np.zeros((k, k)), np.zeros((0, 3 * n)), np.zeros(0),
-                   np.zeros(k, dtype=np.bool_), blk, np.zeros((k, n_zr), dtype=np.int64))  # fmt: skip
+                   np.zeros((k, n_have), dtype=np.int64), blk)  # fmt: skip
     ls = LoopState(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(N_CT), np.zeros(N_EN),
                    np.zeros(n), np.zeros(n), np.zeros(n_el, dtype=np.bool_),
                    np.zeros(n_el, dtype=np.bool_))  # fmt: skip

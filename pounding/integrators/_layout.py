@@ -79,11 +79,11 @@ Friction = namedtuple("Friction", "dof kind law params bw normal state p event")
 Elements = namedtuple("Elements", "kind law dof sign params state trial d0 f0 d1 dd1 f1 kd cd")
 #: Factors of a tangent without contacts for the step ``h[0]``: band LDLᵀ, the dense inverse (0 × 0
 #: unless the system is small or has Coulomb slabs), the condensation of the gaps on it (row c of Z
-#: is J⁻¹ b_c, nonzero only on its row ranges ``zr[c]`` (pairs first, one-past-last); row c of
-#: S = Bᵀ J⁻¹ B is its column c; valid where ``have[c]``), for small systems the dense map of the
-#: linear step (Q, pg; zero rows when the band form is used), and the diagonal blocks of L
-#: (``band_blocks``: one per building without shared dofs).
-Factor = namedtuple("Factor", "h L D J_inv Z S Q pg have blk zr")
+#: is J⁻¹ b_c, row c of S = Bᵀ J⁻¹ B its column c; valid where ``have[c, 0]``, Z[c] nonzero only
+#: on the row ranges in ``have[c, 1:]``), for small systems the dense map of the linear step (Q, pg;
+#: zero rows when the band form is used), and the diagonal blocks of L (``band_blocks``: one per
+#: building without shared dofs).
+Factor = namedtuple("Factor", "h L D J_inv Z S Q pg have blk")
 #: What the caller passes: matrices M, C, K, the influence vector, the dof below each dof (−1 at a
 #: base), the rocking dof and height of each dof's story, the ground record and its step, and the
 #: rows of every nonlinear element.

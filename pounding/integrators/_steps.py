@@ -211,10 +211,11 @@ def linear_step_coulomb(md, fac, g_eff, cf, x0, fr, tr, wk):
 
 
 @jit_kernel
-def condense_map(J_inv, dof, sign, Z, S, zr):
-    """Z = (J⁻¹ B)ᵀ (C × n: row c is J⁻¹ b_c, its rows of J⁻¹ B written ``zr[c]``) and S = Bᵀ J⁻¹ B
-    (C × C, symmetric: row c is column c), B the gap elements' sign columns: how contact forces
-    move every dof and every gap through one step of the linear system (in place)."""
+def condense_map(J_inv, dof, sign, Z, S, have):
+    """Z = (J⁻¹ B)ᵀ (C × n: row c is J⁻¹ b_c) and S = Bᵀ J⁻¹ B (C × C, symmetric: row c is column
+    c), B the gap elements' sign columns: how contact forces move every dof and every gap through
+    one step of the linear system (in place). Every row solved, over all n dofs (``have``, as
+    :func:`condensed_column` keeps it)."""
     n_el = Z.shape[0]
     n = Z.shape[1]
     for c in range(n_el):
@@ -225,10 +226,11 @@ def condense_map(J_inv, dof, sign, Z, S, zr):
                 if k >= 0:
                     z += sign[c, s] * J_inv[i, k]
             Z[c, i] = z
-        zr[c, 0] = 0
-        zr[c, 1] = n
-        for s in range(2, zr.shape[1]):
-            zr[c, s] = 0
+        have[c, 0] = 1
+        have[c, 1] = 0
+        have[c, 2] = n
+        for s in range(3, have.shape[1]):
+            have[c, s] = 0
     for c in range(n_el):
         condensed_row(dof, sign, Z, S, c)
 
@@ -250,17 +252,21 @@ def condensed_column(fac, gaps, q, e):
     """Z[q] = J⁻¹ b_q and S[q] = Bᵀ Z[q] of gap q for the factor ``fac``, solved the first time the
     condensed step needs them under it: one :func:`unit_column` per dof of the gap (a few floors
     of each building, where J⁻¹ is not negligible), then O(C) for S. ``e`` is zero on entry and on
-    return. Z[q] is zero outside its rows ``fac.zr[q]`` (pairs of first, one-past-last row)."""
-    if fac.have[q]:
+    return.
+
+    ``fac.have[q, 0]`` is 1 once solved; ``fac.have[q, 1 + 2p]``, ``fac.have[q, 2 + 2p]`` the p-th
+    range of rows (first, one past the last) outside which Z[q] is zero. (Kept in ``have`` rather
+    than an eleventh field of Factor: that field alone made numba's code for the time loop 2.6 times
+    slower on a small system.)"""
+    have = fac.have
+    if have[q, 0]:
         return
     Z = fac.Z
-    zr = fac.zr
-    n_seg = zr.shape[1] // 2
-    for p in range(n_seg):  # the rows a previous factor wrote
-        for i in range(zr[q, 2 * p], zr[q, 2 * p + 1]):
+    for p in range((have.shape[1] - 1) // 2):  # the rows a previous factor wrote
+        for i in range(have[q, 1 + 2 * p], have[q, 2 + 2 * p]):
             Z[q, i] = 0.0
-        zr[q, 2 * p] = 0
-        zr[q, 2 * p + 1] = 0
+        have[q, 1 + 2 * p] = 0
+        have[q, 2 + 2 * p] = 0
     bw = fac.L.shape[1] - 1
     p = 0
     for s in range(gaps.dof.shape[1]):
@@ -272,23 +278,24 @@ def condensed_column(fac, gaps, q, e):
         for i in range(lo, hi):
             Z[q, i] += sg * e[i]
             e[i] = 0.0
-        zr[q, 2 * p] = lo
-        zr[q, 2 * p + 1] = hi
+        have[q, 1 + 2 * p] = lo
+        have[q, 2 + 2 * p] = hi
         p += 1
-    # overlapping rows (two dofs of one building) merged, so each row is read once
+    # overlapping ranges (two dofs of one building) merged, so each row is read once
     merged = True
     while merged:
         merged = False
         for a in range(p):
             for b in range(a + 1, p):
-                if zr[q, 2 * b] < zr[q, 2 * a + 1] and zr[q, 2 * a] < zr[q, 2 * b + 1]:
-                    zr[q, 2 * a] = min(zr[q, 2 * a], zr[q, 2 * b])
-                    zr[q, 2 * a + 1] = max(zr[q, 2 * a + 1], zr[q, 2 * b + 1])
-                    zr[q, 2 * b] = 0
-                    zr[q, 2 * b + 1] = 0
+                a0, a1, b0, b1 = 1 + 2 * a, 2 + 2 * a, 1 + 2 * b, 2 + 2 * b
+                if have[q, b0] < have[q, a1] and have[q, a0] < have[q, b1]:
+                    have[q, a0] = min(have[q, a0], have[q, b0])
+                    have[q, a1] = max(have[q, a1], have[q, b1])
+                    have[q, b0] = 0
+                    have[q, b1] = 0
                     merged = True
     condensed_row(gaps.dof, gaps.sign, Z, fac.S, q)
-    fac.have[q] = True
+    have[q, 0] = 1
 
 
 @jit_internal
@@ -314,9 +321,9 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
         u1 = u_lin + Zᵀ (α f0 − w f1),   δ = δ_lin + S (α f0 − w f1),   δ̇ = δ̇_lin + c1 (δ − δ_lin),
 
     and Newton runs on the C gap openings alone (no n × n work per iteration) before one update
-    of u1, v1, a1 over the rows each acting gap's column reaches. Only the A gaps with a contact stiffness couple the Newton system, so each
-    iteration solves A × A and back-substitutes the others: O(A³ + CA), not O(C³), for a long row
-    of contacts with few closed. Returns (ok, Newton iterations), as :func:`newton`."""
+    of u1, v1, a1 over the rows each acting gap's column reaches. Only the A gaps with a contact
+    stiffness couple the Newton system, so each iteration solves A × A and back-substitutes the
+    others: O(A³ + CA), not O(C³), for a long row of contacts with few closed. Returns (ok, Newton iterations), as :func:`newton`."""
     n = u.size
     n_el = gaps.gap.size
     Z = fac.Z
@@ -447,12 +454,12 @@ def contact_step(fac, cf, u, gaps, off, opts, tr, wk):
                     acc += S[q, c] * phi[q]
                 d1[c] = acc
                 dd1[c] = dd_lin[c] + cf.c1 * (acc - d_lin[c])
-        zr = fac.zr
+        have = fac.have
         for iq in range(n_nz):
             c = nz[iq]
             p = phi[c]
-            for sg in range(zr.shape[1] // 2):
-                for i in range(zr[c, 2 * sg], zr[c, 2 * sg + 1]):
+            for sg in range((have.shape[1] - 1) // 2):
+                for i in range(have[c, 1 + 2 * sg], have[c, 2 + 2 * sg]):
                     z = Z[c, i] * p
                     tr.u1[i] += z
                     tr.v1[i] += cf.c1 * z
@@ -668,6 +675,7 @@ def refactor(h, md, sch, fac, Jb):
     eager = fac.J_inv.shape[0] == fac.D.size
     if eager:
         _band_inverse(fac.L, fac.D, md.bw, fac.J_inv)
-        condense_map(fac.J_inv, md.x_dof[:n_el], md.x_sign[:n_el], fac.Z, fac.S, fac.zr)
-    for c in range(n_el):
-        fac.have[c] = eager
+        condense_map(fac.J_inv, md.x_dof[:n_el], md.x_sign[:n_el], fac.Z, fac.S, fac.have)
+    if not eager:
+        for c in range(n_el):
+            fac.have[c, 0] = 0
