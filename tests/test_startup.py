@@ -20,21 +20,26 @@ ROOT = Path(__file__).resolve().parents[1]
 HEAVY = ("numba", "xarray", "scipy.integrate", "pandas", "h5netcdf")
 
 
+def _python(code: str, env: dict[str, str] | None = None, timeout: float = 300) -> str:
+    """Run ``code`` in a fresh interpreter on this checkout; its standard output."""
+    res = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})},
+        timeout=timeout,
+    )
+    assert res.returncode == 0, res.stderr
+    return res.stdout
+
+
 def _loaded_after(code: str, env: dict[str, str] | None = None) -> dict:
     """Run ``code`` in a fresh interpreter; return which HEAVY modules it left in sys.modules."""
     probe = (
         f"{code}\nimport json, sys\nprint(json.dumps({{m: m in sys.modules for m in {HEAVY!r}}}))"
     )
-    res = subprocess.run(
-        [sys.executable, "-c", probe],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})},
-        timeout=120,
-    )
-    assert res.returncode == 0, res.stderr
-    return json.loads(res.stdout.strip().splitlines()[-1])
+    return json.loads(_python(probe, env, timeout=120).strip().splitlines()[-1])
 
 
 def test_import_pounding_loads_no_numba_xarray_or_scipy_integrate():
@@ -97,19 +102,8 @@ def test_kernels_read_from_the_cache_skip_numba_compiler_registries():
         "print(repr(float(np.abs(r['displacement']).max())), "
         "'numba.np.polynomial.polynomial_core' in sys.modules)"
     )
-    runs = []
-    for _ in range(2):
-        res = subprocess.run(
-            [sys.executable, "-c", code],
-            capture_output=True,
-            text=True,
-            cwd=ROOT,
-            env={**os.environ, "PYTHONPATH": str(ROOT)},
-            timeout=600,
-        )
-        assert res.returncode == 0, res.stderr
-        runs.append(res.stdout.split())
-    assert runs[1] == [runs[0][0], "False"]
+    first, second = (_python(code, timeout=600).split() for _ in range(2))
+    assert second == [first[0], "False"]
 
 
 def test_warmup_verb_reports_time_and_cache(monkeypatch):
@@ -151,16 +145,7 @@ def test_run_console_process_loads_no_xarray_pandas_or_scipy_linalg(tmp_path):
         "assert float(scipy.linalg.solve([[2.0]], [1.0])[0]) == 0.5\n"
         "print(json.dumps(mods))"
     )
-    res = subprocess.run(
-        [sys.executable, "-c", code],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
-        timeout=300,
-    )
-    assert res.returncode == 0, res.stderr
-    mods = json.loads(res.stdout.strip().splitlines()[-1])
+    mods = json.loads(_python(code).strip().splitlines()[-1])
     assert mods == {
         "xarray": False,
         "pandas": False,
