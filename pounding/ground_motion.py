@@ -10,6 +10,7 @@ Record files are read in :mod:`pounding.records`; this module holds no I/O.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -78,15 +79,12 @@ class GroundMotion:
         """Time of the last sample [s]."""
         return self.dt * (self.npts - 1)
 
-    @property
+    @functools.cached_property
     def time(self) -> np.ndarray:
         """Sample times [s] (read-only)."""
         # built once: `at` is called per time step by solve_ivp right-hand sides
-        time = self.__dict__.get("_time")
-        if time is None:
-            time = self.dt * np.arange(self.npts)
-            time.setflags(write=False)
-            object.__setattr__(self, "_time", time)
+        time = self.dt * np.arange(self.npts)
+        time.setflags(write=False)
         return time
 
     @property

@@ -405,15 +405,16 @@ def _woodbury_correct(n, x_dof, x_sign, kc, Zr, S, y, x, m):
 
 
 @jit_internal
-def inverse_column(J_inv, dof, sign, c, Z):
-    """Z[:, c] = J⁻¹ b_c, b_c the signs of row c at its dofs (a dof of −1 is the ground)."""
+def inverse_column(J_inv, dof, sign, c, z):
+    """z = J⁻¹ b_c, b_c the signs of row c at its dofs (a dof of −1 is the ground); ``z`` a column
+    or a row of the caller's array."""
     for i in range(J_inv.shape[0]):
-        z = 0.0
+        acc = 0.0
         for s in range(dof.shape[1]):
             k = dof[c, s]
             if k >= 0:
-                z += J_inv[i, k] * sign[c, s]
-        Z[i, c] = z
+                acc += J_inv[i, k] * sign[c, s]
+        z[i] = acc
 
 
 @jit
@@ -436,7 +437,7 @@ def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
     for c in range(n_el):
         if kc[c] == 0.0:
             continue
-        inverse_column(J_inv, el_dof, el_sign, c, Z)
+        inverse_column(J_inv, el_dof, el_sign, c, Z[:, c])
         m += 1
     if m == 0:
         return True

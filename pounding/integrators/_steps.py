@@ -47,6 +47,7 @@ from pounding.integrators._linalg import (
     band_ldl_into,
     band_solve,
     bandwidth,
+    inverse_column,
     to_band,
     unit_column,
     woodbury_band_solve,
@@ -219,13 +220,7 @@ def condense_map(J_inv, dof, sign, Z, S, have):
     n_el = Z.shape[0]
     n = Z.shape[1]
     for c in range(n_el):
-        for i in range(n):
-            z = 0.0
-            for s in range(dof.shape[1]):
-                k = dof[c, s]
-                if k >= 0:
-                    z += sign[c, s] * J_inv[i, k]
-            Z[c, i] = z
+        inverse_column(J_inv, dof, sign, c, Z[c])
         have[c, 0] = 1
         have[c, 1] = 0
         have[c, 2] = n
