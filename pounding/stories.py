@@ -121,6 +121,9 @@ FAMILY_STORY = 1
 #: of the last increment).
 SS_F, SS_D, SS_W, SS_E, SS_Z, SS_EPS = 0, 1, 2, 3, 4, 5
 SS_PEAK_POS, SS_PEAK_NEG, SS_ZERO_POS, SS_ZERO_NEG, SS_DIR = 4, 5, 6, 7, 8
+#: Takeda: the unloading stiffnesses [N/m] at those peaks, 0 until first computed (pow() of a
+#: non-integer exponent was most of the kernel's cost at every call; the peaks rarely change).
+SS_KU_POS, SS_KU_NEG = 9, 10
 #: IMK: the direction and the zero-force drifts as Takeda's, then the strength and post-cap
 #: fractions lost on each side, the unloading-stiffness fraction lost, the target drifts [m], the
 #: hysteretic energy [J] at the last reversal and the work [J] at the last zero-force crossing, a
@@ -234,12 +237,17 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
     line. Past the peak it follows the backbone."""
     k, fy, b, a = p[0], p[1], p[2], p[3]
     dy = fy / k
+
+    def unloading(mu):
+        # k μ^(−a) from a peak of μ = δ_m/δ_y ≥ 1
+        return k if a == 0.0 else k * mu**-a
+
     d0 = s0[SS_D]
     f0 = s0[SS_F]
     pos = max(s0[SS_PEAK_POS], dy)
     neg = min(s0[SS_PEAK_NEG], -dy)
-    k_pos = k if a == 0.0 else k * (pos / dy) ** -a
-    k_neg = k if a == 0.0 else k * (-neg / dy) ** -a
+    k_pos = s0[SS_KU_POS] if s0[SS_KU_POS] > 0.0 else unloading(pos / dy)
+    k_neg = s0[SS_KU_NEG] if s0[SS_KU_NEG] > 0.0 else unloading(-neg / dy)
     zero_pos, zero_neg = s0[SS_ZERO_POS], s0[SS_ZERO_NEG]
     direction = s0[SS_DIR]
     dx = d - d0
@@ -282,9 +290,13 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
             if f0 < 0.0 and f0 + k_neg * dx > f:
                 f = f0 + k_neg * dx
                 kt = k_neg
-    pos = max(pos, d)
-    neg = min(neg, d)
-    k_u = k if a == 0.0 else k * ((pos if f > 0.0 else -neg) / dy) ** -a
+    if d > pos:
+        pos = d
+        k_pos = unloading(pos / dy)
+    if d < neg:
+        neg = d
+        k_neg = unloading(-neg / dy)
+    k_u = k_pos if f > 0.0 else k_neg
     s1[SS_F] = f
     s1[SS_D] = d
     s1[SS_W] = s0[SS_W] + 0.5 * (f0 + f) * dx
@@ -294,6 +306,8 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
     s1[SS_ZERO_POS] = zero_pos
     s1[SS_ZERO_NEG] = zero_neg
     s1[SS_DIR] = direction
+    s1[SS_KU_POS] = k_pos
+    s1[SS_KU_NEG] = k_neg
     return f - k * d, kt - k, 0.0
 
 

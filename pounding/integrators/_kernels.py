@@ -96,12 +96,12 @@ from pounding.integrators._steps import (  # noqa: F401
     dense_map,
     dense_step,
     equilibrium,
-    hold_elements,
     linear_step,
     linear_step_coulomb,
     newton,
     refactor,
     residual,
+    settle_elements,
     stick_force,
 )
 from pounding.system import FRICTION_COULOMB
@@ -250,22 +250,23 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     linear = el.kind.size == 0
     for k in range(n_fr):
         linear = linear and fr.kind[k] == FRICTION_COULOMB
-    # yielding stories alone: linear while every one stays on its elastic branch (tried only when
-    # each ended the last step there: a smooth model, Bouc–Wen, never does)
+    # yielding stories alone: the linear step, their forces settled on its factors
     stories = el.kind.size > 0 and n_fr == 0
     for e in range(el.kind.size):
-        stories = stories and el.kind[e] == FAMILY_STORY and el.kd[e] == 0.0
+        stories = stories and el.kind[e] == FAMILY_STORY
     condensable = n_fr == 0 and el.kind.size == 0
     g_start = ground_at(md.ag, md.ag_dt, t)
     if not in_contact and hs == h and (linear or stories):
-        # open gaps, Coulomb slabs stuck or sliding, stories elastic: the exact linear step
+        # open gaps, Coulomb slabs stuck or sliding, yielding stories: the exact linear step
         cf = newmark_coefficients(hs, sch)
         g_eff = cf.w * ground_at(md.ag, md.ag_dt, t + hs) - cf.alpha * g_start
         if n_fr == 0:
             linear_step(md, fac_h, g_eff, cf, x0, tr, wk.lin)
         else:
             linear_step_coulomb(md, fac_h, g_eff, cf, x0, fr, tr, wk)
-        if not stories or hold_elements(md, fac_h, cf, hs, el, tr, wk.lin):
+        # (the story forces settled by passes of this step's solve are not Newton iterations)
+        if not stories or settle_elements(md, fac_h, cf, hs, el, tr, wk.lin, wk.vec[3], opts.tol,
+                                          opts.max_iter):  # fmt: skip
             closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)
             for c in range(gaps.gap.size):
                 tr.f1[c] = 0.0
