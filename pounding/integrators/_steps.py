@@ -200,6 +200,9 @@ def settle_elements(md, fac, cf, h, el, tr, lin, f_prev, tol, max_iter):
             rhs[i] = 0.0
         for e in range(el.kind.size):
             df = el.f1[e] - f_prev[e]
+            # F − k δ of a story on its elastic branch, assumed constant, changes by round-off
+            if abs(df) <= ROUND_OFF * (abs(el.trial[e, 0]) + abs(el.f1[e])):
+                df = 0.0
             f_prev[e] = el.f1[e]
             loaded = _load(el, e, w * df, rhs) or loaded
     return False
