@@ -155,8 +155,10 @@ def settle_elements(md, fac, cf, h, el, tr, lin, f_prev, tol, max_iter):
         rhs[i] = 0.0
         u_max = max(u_max, abs(tr.u1[i]))
     for e in range(el.kind.size):
-        d, _ = gather(el.dof, el.sign, e, tr.u1, tr.v1)
-        df = el.kd[e] * (d - el.d0[e])
+        df = 0.0
+        if el.kd[e] != 0.0:  # on an elastic branch F − k δ stays f0
+            d, _ = gather(el.dof, el.sign, e, tr.u1, tr.v1)
+            df = el.kd[e] * (d - el.d0[e])
         f_prev[e] = el.f0[e] + df
         loaded = _load(el, e, el.f0[e] + w * df, rhs) or loaded
     last = np.inf
