@@ -26,6 +26,11 @@ Contact materials, read from the OpenSees source (SRC/material/uniaxial/, OpenSe
   before the gap closed (pounding adds K1 δ only), so the first force of every impact is too high by
   K1 × (closing distance covered in that step before contact).
 
+Yielding stories (``system.stories``, :mod:`pounding.stories`) → :func:`story_material`: ``bilinear`` →
+``Steel01``, ``bouc_wen`` → ``BoucWen`` (see there). A building with a yielding story gets
+``-rayleigh a0 0 a1 0`` (β_K on the *initial* stiffness, the constant C of pounding); an elastic
+building keeps ``a0 a1 0 0`` (the same matrix: its tangent is its initial stiffness).
+
 None of these materials returns a damping tangent (``getDampTangent`` = 0), so OpenSees's Newton uses
 ∂F/∂δ only; pounding's uses ∂F/∂δ + γ/(βh) ∂F/∂δ̇. Both converge to the same step solution.
 
@@ -115,6 +120,68 @@ def contact_material(ops, tag: int, law: str, gap: float, p: np.ndarray) -> None
         raise ValueError(f"no OpenSees material for law {law!r}; allowed: {', '.join(MATERIALS)}")
 
 
+#: OpenSees material per pounding story model (:func:`story_material`).
+STORY_MATERIALS = {"bilinear": "Steel01", "bouc_wen": "BoucWen", "imk": "ModIMKPeakOriented"}
+#: ModIMKPeakOriented's fracDisp (deformation at which the force drops to 0) [m]: never reached.
+IMK_FRAC_DISP = 1.0e3
+#: BoucWen's own Newton on z: tolerance [m] on the z increment and iteration cap (the material's
+#: defaults are 1e-8 m and 20; 1e-8 m is ~1e-6 δ_y here).
+BW_TOL = 1.0e-13
+BW_MAX_ITER = 50
+
+
+def story_material(ops, tag: int, model: str, p: np.ndarray) -> None:
+    """Define the OpenSees material of a yielding story with pounding parameters ``p`` (a row of
+    ``system.stories.params``: k [N/m], F_y [N], then the model's parameters, drifts in metres).
+
+    * ``bilinear`` → ``Steel01 Fy=F_y E0=k b a1=0 a2=1 a3=0 a4=1`` (Steel01.cpp: the trial stress
+      E0 Δε + σ_n bounded by b E0 ε ± (1 − b) Fy (shiftP = shiftN = 1 with a1 = a3 = 0), tangent E0
+      or b E0): pounding's return map. a2 = a4 = 1 only keep ``a1 pow(x/(2 a2 ε_y), 0.8)`` finite.
+    * ``bouc_wen`` → ``BoucWen alpha=α ko=k n gamma=γ/δ_y^n beta=β/δ_y^n Ao=A
+      deltaA=δ_A/(F_y δ_y) deltaNu=δ_ν/(F_y δ_y) deltaEta=δ_η/(F_y δ_y) tol maxIter``
+      (BoucWenMaterial.cpp: z in metres, z = δ_y ζ, F = α k x + (1 − α) k z = α k x + (1 − α) F_y ζ;
+      dz/dx = A − |z|^n (γ' + β' sgn(Δx z)) gives γ' = γ/δ_y^n; its energy
+      e = Σ(1 − α) k z Δx = F_y δ_y ε). No pinching (ζ_s = 0). OpenSees integrates z by **backward
+      Euler over the whole step** (z1 = z0 + Φ(z1) Δx, solved by Newton); pounding by RK4 sub-steps
+      of at most 0.02 δ_y.
+    * ``imk`` → ``ModIMKPeakOriented Ke=k alfaPos=alfaNeg=α_s My_pos=F_y My_neg=−F_y
+      Ls=γ_s δ_y Ld=γ_c δ_y La=γ_a δ_y Lk=γ_k δ_y/2 Cs=Cd=Ca=Ck=c thetaP±=δ_p thetaPC±=δ_pc
+      Resfac±=κ fracDisp±=IMK_FRAC_DISP D±=1`` (ModIMKPeakOriented.cpp: energy capacities
+      Ls My, Ld My, La My and 2 Lk My against pounding's γ F_y δ_y; the cap at My/Ke + thetaP, the
+      post-cap slope −F_cap/thetaPC as pounding's −F_c/δ_pc; thetaP/thetaPC are deformations [m]
+      here, drift × h). A mode that is off in pounding (γ = 0) must not be 0 for Ld: the material
+      then sets betac = 1 (``Enrgtot >= Enrgtd && Enrgtd == 0.0``) at the first deteriorating
+      reversal.
+    """
+    k, fy = float(p[0]), float(p[1])
+    if model == "bilinear":
+        ops.uniaxialMaterial("Steel01", tag, fy, k, float(p[2]), 0.0, 1.0, 0.0, 1.0)
+    elif model == "bouc_wen":
+        alpha, n, beta, gamma, a, d_a, d_nu, d_eta, zeta_s = (float(x) for x in p[2:11])
+        if zeta_s > 0.0:
+            raise ValueError("Bouc–Wen pinching (zeta_s > 0) has no BoucWen equivalent")
+        dy = fy / k
+        e_y = fy * dy
+        ops.uniaxialMaterial(
+            "BoucWen", tag, alpha, k, n, gamma / dy**n, beta / dy**n, a,
+            d_a / e_y, d_nu / e_y, d_eta / e_y, BW_TOL, BW_MAX_ITER,
+        )  # fmt: skip
+    elif model == "imk":
+        alpha, dp, dpc, kappa, g_s, g_c, g_a, g_k, c = (float(x) for x in p[2:11])
+        if g_c == 0.0:
+            raise ValueError("IMK gamma_c = 0 has no ModIMKPeakOriented equivalent (Ld = 0 bug)")
+        dy = fy / k
+        ops.uniaxialMaterial(
+            "ModIMKPeakOriented", tag, k, alpha, alpha, fy, -fy,
+            g_s * dy, g_c * dy, g_a * dy, g_k * dy / 2.0, c, c, c, c,
+            dp, dp, dpc, dpc, kappa, kappa, IMK_FRAC_DISP, IMK_FRAC_DISP, 1.0, 1.0,
+        )  # fmt: skip
+    else:
+        raise ValueError(
+            f"no OpenSees material for story model {model!r}; allowed: {', '.join(STORY_MATERIALS)}"
+        )
+
+
 def build(
     ops,
     system: PoundingSystem,
@@ -127,8 +194,12 @@ def build(
 ) -> dict:
     """Build the OpenSees model of ``system`` under ``ground`` and set up the transient analysis.
 
-    Returns the tags: ``nodes`` (per dof) and ``contacts`` (per gap element).
+    Returns the tags: ``nodes`` (per dof), ``contacts`` (per gap element) and ``stories`` (per
+    row of ``system.stories``: the yielding story elements).
     """
+    st = system.stories
+    yielding = {(int(st.building[r]), int(st.story[r])): r for r in range(len(st))}
+    story_tags = [0] * len(st)
     with _quiet():
         ops.wipe()
         ops.model("basic", "-ndm", 1, "-ndf", 1)
@@ -144,7 +215,14 @@ def build(
             off = int(system.dof_offset[b])
             stories = []
             for s, k in enumerate(building.stiffnesses):
-                ops.uniaxialMaterial("Elastic", mat, float(k))
+                r = yielding.get((b, s + 1))
+                if r is None:
+                    ops.uniaxialMaterial("Elastic", mat, float(k))
+                else:
+                    if not np.isclose(st.params[r, 0], k, rtol=1e-12, atol=0.0):
+                        raise ValueError(f"story row {r}: k {st.params[r, 0]} != building's {k}")
+                    story_material(ops, mat, st.model[r], st.params[r])
+                    story_tags[r] = ele
                 below = GROUND if s == 0 else node_of_dof(off + s - 1)
                 ops.element(
                     "zeroLength", ele, below, node_of_dof(off + s),
@@ -154,7 +232,11 @@ def build(
                 mat += 1
                 ele += 1
             a0, a1 = _rayleigh(building)
-            ops.region(b + 1, "-ele", *stories, "-rayleigh", a0, a1, 0.0, 0.0)
+            if any(bb == b for bb, _ in yielding):
+                # damping on the initial stiffness (pounding's constant C), not the tangent
+                ops.region(b + 1, "-ele", *stories, "-rayleigh", a0, 0.0, a1, 0.0)
+            else:
+                ops.region(b + 1, "-ele", *stories, "-rayleigh", a0, a1, 0.0, 0.0)
         el = system.elements
         contacts = []
         for c in range(len(el)):
@@ -180,7 +262,11 @@ def build(
         ops.algorithm("Newton")
         ops.integrator("Newmark", 0.5, 0.25)
         ops.analysis("Transient")
-    return {"nodes": [node_of_dof(i) for i in range(system.n_dof)], "contacts": contacts}
+    return {
+        "nodes": [node_of_dof(i) for i in range(system.n_dof)],
+        "contacts": contacts,
+        "stories": story_tags,
+    }
 
 
 def _rayleigh(building) -> tuple[float, float]:
@@ -204,32 +290,56 @@ def time_analysis(ops, n_steps: int, dt: float) -> float:
     return elapsed
 
 
-def run_histories(ops, tags: dict, n_steps: int, dt: float, output_every: int) -> dict:
+def run_histories(
+    ops, tags: dict, n_steps: int, dt: float, output_every: int, *, per_step: bool = False
+) -> dict:
     """Run the built model: displacements on the output grid and full-resolution peaks.
 
-    Calls ``analyze(output_every, dt)`` per output step and reads the nodal displacements; peaks
-    of |u| and of the contact force come from ``EnvelopeNode``/``EnvelopeElement`` recorders, which
-    see every step. (Not used for timing.)
+    Calls ``analyze(output_every, dt)`` per output step (``per_step``: ``analyze(1, dt)`` per step,
+    summing ``testIter()``, OpenSees's Newton iterations) and reads the nodal displacements and the
+    yielding stories' spring forces (``eleResponse(tag, 'force')`` at node j = +F); peaks of |u|,
+    of the contact force and of the story forces come from ``EnvelopeNode``/``EnvelopeElement``
+    recorders, which see every step. (Not used for timing.)
     """
     nodes = tags["nodes"]
     contacts = tags["contacts"]
+    stories = tags.get("stories", [])
     n_out = n_steps // output_every + 1
     u_out = np.zeros((n_out, len(nodes)))
+    f_out = np.zeros((n_out, len(stories)))
+    iterations = 0
     with tempfile.TemporaryDirectory() as tmp:
         fn = os.path.join(tmp, "nodes.txt")
         fe = os.path.join(tmp, "contacts.txt")
+        fs = os.path.join(tmp, "stories.txt")
         with _quiet():
             ops.recorder("EnvelopeNode", "-file", fn, "-precision", 17, "-node", *nodes,
                          "-dof", 1, "disp")  # fmt: skip
             if contacts:
                 ops.recorder("EnvelopeElement", "-file", fe, "-precision", 17, "-ele", *contacts,
                              "force")  # fmt: skip
+            if stories:
+                ops.recorder("EnvelopeElement", "-file", fs, "-precision", 17, "-ele", *stories,
+                             "force")  # fmt: skip
             for k in range(n_steps // output_every):
-                if ops.analyze(output_every, dt) != 0:
+                if per_step:
+                    for _ in range(output_every):
+                        if ops.analyze(1, dt) != 0:
+                            raise RuntimeError(f"OpenSees analyze failed at t = {ops.getTime()}")
+                        iterations += ops.testIter()
+                elif ops.analyze(output_every, dt) != 0:
                     raise RuntimeError(f"OpenSees analyze failed at t = {ops.getTime()}")
                 u_out[k + 1] = [ops.nodeDisp(nd, 1) for nd in nodes]
+                f_out[k + 1] = [ops.eleResponse(e, "force")[1] for e in stories]
             ops.remove("recorders")
         peak_u = np.loadtxt(fn, ndmin=2)[2]
         # element force at node i is -stress = +F (compression); rows: min, max, |max|
         peak_f = np.loadtxt(fe, ndmin=2)[1, 0::2] if contacts else np.zeros(0)
-    return {"u": u_out, "peak_u": peak_u, "peak_f": peak_f}
+        # story element: node j carries +F (the spring force); row |max|
+        peak_s = np.loadtxt(fs, ndmin=2)[2, 1::2] if stories else np.zeros(0)
+    out = {"u": u_out, "peak_u": peak_u, "peak_f": peak_f}
+    if stories:
+        out.update({"story_force": f_out, "peak_story_force": peak_s})
+    if per_step:
+        out["newton_iterations"] = iterations
+    return out
