@@ -8,6 +8,7 @@ Cases (3 % hardening everywhere):
 
 * ``bilinear`` yield drift 0.5 % and 0.2 % → OpenSees ``Steel01``;
 * ``bouc_wen`` yield drift 0.5 %, n = 2, β = γ = 0.5, A = 1, no degradation → ``BoucWen``;
+* ``takeda`` yield drift 0.5 %, unloading exponent a = 0.4 → ``Hysteretic``;
 * ``imk`` yield drift 0.5 %, plastic drift 2 %, post-cap drift 10 %, residual 0.2, γ = 50 for all
   four deterioration modes, c = 1 → ``ModIMKPeakOriented``.
 
@@ -23,6 +24,10 @@ OpenSees arguments (read from SRC/material/uniaxial/*.cpp of OpenSees/OpenSees; 
   tol=1e-13 maxIter=50``: OpenSees's z is in metres (z = δ_y ζ), F = α k x + (1 − α) k z =
   α k x + (1 − α) F_y ζ, dz/dx = A − |z|^n (γ' + β' sgn(Δx z)) so γ' = γ/δ_y^n, β' = β/δ_y^n.
   The tolerance is on z [m] (default 1e-8 m ≈ 7e-7 δ_y here).
+* ``Hysteretic s1p=F_y e1p=δ_y s2p e2p=10 δ_y s3p e3p=20 δ_y`` (s = F_y + b k (e − δ_y)), the
+  negative side mirrored, ``pinchX=pinchY=1 damage1=damage2=0 beta=a``: unloading at
+  k (peak/δ_y)^(−a), reload from the zero-force drift to the peak (the yield point before the side
+  yields), a partial unload reloads at the unloading stiffness until it meets that line.
 * ``ModIMKPeakOriented Ke=k alfaPos=alfaNeg=0.03 My_pos=F_y My_neg=−F_y Ls=Ld=La=50 δ_y
   Lk=50 δ_y/2 Cs=Cd=Ca=Ck=1 thetaP±=0.02 h thetaPC±=0.10 h Resfac±=0.2 fracDisp±=1e3 m D±=1``:
   energy capacities Ls My etc. and 2 Lk My = γ F_y δ_y; cap at My/Ke + thetaP, post-cap slope
@@ -81,6 +86,7 @@ CASES = {
     "bilinear": ("bilinear", 0.005, {}),
     "bilinear_low": ("bilinear", 0.002, {}),
     "bouc_wen": ("bouc_wen", 0.005, {"n": 2.0, "beta": 0.5, "gamma": 0.5, "A": 1.0}),
+    "takeda": ("takeda", 0.005, {"unloading_exponent": 0.4}),
     "imk": ("imk", 0.005, {f"gamma_{m}": 50.0 for m in "scak"}),
 }
 TARGETS = {"peak_u": 0.005, "story_force": 0.01, "ratio": 50.0}

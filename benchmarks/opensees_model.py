@@ -121,7 +121,14 @@ def contact_material(ops, tag: int, law: str, gap: float, p: np.ndarray) -> None
 
 
 #: OpenSees material per pounding story model (:func:`story_material`).
-STORY_MATERIALS = {"bilinear": "Steel01", "bouc_wen": "BoucWen", "imk": "ModIMKPeakOriented"}
+STORY_MATERIALS = {
+    "bilinear": "Steel01",
+    "bouc_wen": "BoucWen",
+    "takeda": "Hysteretic",
+    "imk": "ModIMKPeakOriented",
+}
+#: Hysteretic's second and third backbone points [δ_y]; the last segment continues past the third.
+TAKEDA_POINTS = (10.0, 20.0)
 #: ModIMKPeakOriented's fracDisp (deformation at which the force drops to 0) [m]: never reached.
 IMK_FRAC_DISP = 1.0e3
 #: BoucWen's own Newton on z: tolerance [m] on the z increment and iteration cap (the material's
@@ -144,6 +151,12 @@ def story_material(ops, tag: int, model: str, p: np.ndarray) -> None:
       e = Σ(1 − α) k z Δx = F_y δ_y ε). No pinching (ζ_s = 0). OpenSees integrates z by **backward
       Euler over the whole step** (z1 = z0 + Φ(z1) Δx, solved by Newton); pounding by RK4 sub-steps
       of at most 0.02 δ_y.
+    * ``takeda`` → ``Hysteretic`` with the backbone (F_y, δ_y), (F_y + b k (x − δ_y), x) at
+      x = 10 δ_y and 20 δ_y on each side (the last segment continues past 20 δ_y since its slope
+      b k > 0), pinchX = pinchY = 1, damage1 = damage2 = 0, beta = a (HystereticMaterial.cpp:
+      unloading at Eup (CrotMax/rot1p)^(−beta) = k μ^(−a), reload from the zero-force drift
+      TrotNu to the peak (max(CrotMax, rot1p)), a partial unload reloads at the unloading
+      stiffness until it meets that line: pounding's rules).
     * ``imk`` → ``ModIMKPeakOriented Ke=k alfaPos=alfaNeg=α_s My_pos=F_y My_neg=−F_y
       Ls=γ_s δ_y Ld=γ_c δ_y La=γ_a δ_y Lk=γ_k δ_y/2 Cs=Cd=Ca=Ck=c thetaP±=δ_p thetaPC±=δ_pc
       Resfac±=κ fracDisp±=IMK_FRAC_DISP D±=1`` (ModIMKPeakOriented.cpp: energy capacities
@@ -166,6 +179,12 @@ def story_material(ops, tag: int, model: str, p: np.ndarray) -> None:
             "BoucWen", tag, alpha, k, n, gamma / dy**n, beta / dy**n, a,
             d_a / e_y, d_nu / e_y, d_eta / e_y, BW_TOL, BW_MAX_ITER,
         )  # fmt: skip
+    elif model == "takeda":
+        b, a = float(p[2]), float(p[3])
+        dy = fy / k
+        pts = [(fy + b * k * (x - 1.0) * dy, x * dy) for x in TAKEDA_POINTS]
+        pos = [fy, dy, *pts[0], *pts[1]]
+        ops.uniaxialMaterial("Hysteretic", tag, *pos, *(-x for x in pos), 1.0, 1.0, 0.0, 0.0, a)
     elif model == "imk":
         alpha, dp, dpc, kappa, g_s, g_c, g_a, g_k, c = (float(x) for x in p[2:11])
         if g_c == 0.0:
