@@ -27,7 +27,8 @@ Contact materials, read from the OpenSees source (SRC/material/uniaxial/, OpenSe
   K1 × (closing distance covered in that step before contact).
 
 Yielding stories (``system.stories``, :mod:`pounding.stories`) → :func:`story_material`: ``bilinear`` →
-``Steel01``, ``bouc_wen`` → ``BoucWen`` (see there). A building with a yielding story gets
+``Steel01``, ``bouc_wen`` → ``BoucWen``, ``takeda`` → ``Hysteretic``, ``imk`` →
+``ModIMKPeakOriented`` (see there). A building with a yielding story gets
 ``-rayleigh a0 0 a1 0`` (β_K on the *initial* stiffness, the constant C of pounding); an elastic
 building keeps ``a0 a1 0 0`` (the same matrix: its tangent is its initial stiffness).
 
