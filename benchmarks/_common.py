@@ -168,3 +168,23 @@ def finish_per_step(
     path = write_json(f"{script}.json", payload, out_dirs(quick)[0])
     print(f"wrote {path}")
     return path
+
+
+def write_run(
+    script: str,
+    argv: list[str] | None,
+    info: dict[str, Any],
+    record: Any,
+    fields: dict[str, Any],
+    name: str,
+    quick: bool,
+    t_start: float,
+) -> Path:
+    """The JSON ``name`` of a side-by-side benchmark: its command line, the machine ``info``, the
+    record, ``fields`` and the wall time since ``t_start`` (``time.perf_counter``)."""
+    args = sys.argv[1:] if argv is None else argv
+    payload = {"command": " ".join([f"python benchmarks/{script}.py", *args]), "machine": info,
+               "record": record, **fields, "wall_time": time.perf_counter() - t_start}  # fmt: skip
+    path = write_json(name, payload, out_dirs(quick)[0])
+    print(f"wrote {path} ({payload['wall_time']:.0f} s)")
+    return path

@@ -38,8 +38,7 @@ from _common import (  # noqa: E402
     fmt_time,
     machine,
     machine_markdown,
-    out_dirs,
-    write_json,
+    write_run,
 )
 from models import DURATION, LAW_PARAMS, build, model_spec, record  # noqa: E402
 
@@ -99,13 +98,14 @@ def timed_pair(ops, system, gm, dt: float, repeats: int, os_repeats: int) -> dic
     return out
 
 
-def histories(ops, system, gm, dt: float) -> tuple:
-    """pounding's RawResult and OpenSees's histories on the 1 ms output grid (not timed)."""
+def histories(ops, system, gm, dt: float, per_step: bool = False) -> tuple:
+    """pounding's RawResult and OpenSees's histories on the 1 ms output grid (not timed);
+    ``per_step``: OpenSees's story forces and Newton iterations too (:func:`om.run_histories`)."""
     opts = AnalysisOptions(**fixed_step(dt, duration=DURATION, output_dt=OUTPUT_DT))
     raw, _ = run(system, gm, opts)
     tags = om.build(ops, system, gm)
     n_steps = int(round(DURATION / dt))
-    h = om.run_histories(ops, tags, n_steps, dt, int(round(OUTPUT_DT / dt)))
+    h = om.run_histories(ops, tags, n_steps, dt, int(round(OUTPUT_DT / dt)), per_step=per_step)
     return raw, h
 
 
@@ -238,21 +238,15 @@ def main(argv: list[str] | None = None) -> int:
                 f"/step  OpenSees {fmt_time(row['os_per_step'])}/step  x{row['ratio']:.1f}",
                 flush=True,
             )
-    payload = {
-        "command": "python benchmarks/compare_opensees.py "
-        + " ".join(sys.argv[1:] if argv is None else argv),
-        "machine": info,
-        "record": ref,
+    fields = {
         "duration": DURATION,
         "output_dt": OUTPUT_DT,
         "models": {m: model_spec(m).description for m in models},
         "law_params": {law: LAW_PARAMS[law] for law in laws},
         "rows": rows,
         "no_contact": no_contact,
-        "wall_time": time.perf_counter() - t_start,
     }
-    path = write_json(args.out, payload, out_dirs(args.quick)[0])
-    print(f"wrote {path} ({payload['wall_time']:.0f} s)")
+    write_run("compare_opensees", argv, info, ref, fields, args.out, args.quick, t_start)
     return 0
 
 

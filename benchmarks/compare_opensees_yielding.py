@@ -69,10 +69,9 @@ from _common import (  # noqa: E402
     fixed_step,
     machine,
     machine_markdown,
-    out_dirs,
-    write_json,
+    write_run,
 )
-from compare_opensees import loadavg, per_building  # noqa: E402
+from compare_opensees import histories, loadavg, per_building  # noqa: E402
 from models import DURATION, build, record  # noqa: E402
 
 from pounding import Stories, assemble  # noqa: E402
@@ -130,11 +129,7 @@ def timed(ops, system, gm, dt: float, repeats: int) -> dict:
 
 
 def compare(ops, system, gm, dt: float) -> dict:
-    opts = AnalysisOptions(**fixed_step(dt, duration=DURATION, output_dt=OUTPUT_DT))
-    raw, _ = run(system, gm, opts)
-    tags = om.build(ops, system, gm)
-    n_steps = int(round(DURATION / dt))
-    h = om.run_histories(ops, tags, n_steps, dt, int(round(OUTPUT_DT / dt)), per_step=True)
+    raw, h = histories(ops, system, gm, dt, per_step=True)
     pu_a = per_building(system, raw.peak_displacement)
     pu_b = per_building(system, h["peak_u"])
     pf_a = story_peaks(system, np.asarray(raw.peak_story_force))
@@ -236,11 +231,7 @@ def main(argv: list[str] | None = None) -> int:
             rows.append(row)
             print(table([row]).splitlines()[-1], flush=True)
     print(table(rows))
-    payload = {
-        "command": "python benchmarks/compare_opensees_yielding.py "
-        + " ".join(sys.argv[1:] if argv is None else argv),
-        "machine": info,
-        "record": ref,
+    fields = {
         "duration": DURATION,
         "output_dt": OUTPUT_DT,
         "law": LAW,
@@ -250,10 +241,8 @@ def main(argv: list[str] | None = None) -> int:
         "targets": TARGETS,
         "rows": rows,
         "elastic_baseline": baseline,
-        "wall_time": time.perf_counter() - t_start,
     }
-    path = write_json(args.out, payload, out_dirs(args.quick)[0])
-    print(f"wrote {path} ({payload['wall_time']:.0f} s)")
+    write_run("compare_opensees_yielding", argv, info, ref, fields, args.out, args.quick, t_start)
     return 0
 
 
