@@ -40,6 +40,7 @@ from pounding.integrators._layout import FS_DIR, FS_F0, FS_F1, FS_STUCK
 from pounding.integrators._linalg import (
     _band_inverse,
     _band_matvec_add,
+    _dense_matvec_add,
     _gauss_solve,
     _mv,
     _solve_small,
@@ -139,8 +140,8 @@ def settle_elements(md, fac, cf, h, el, tr, lin, f_prev, tol, max_iter):
     The weighted equation gains −Bᵀ(w F1 − α f0). The first pass takes F1 along each element's
     last tangent from where the linear step took it, F1 ≈ f0 + kd (δ − δ0) (the load
     −Bᵀ(f0 + w kd (δ − δ0)), as w − α = 1); each further pass adds −w J⁻¹Bᵀ(F1 − F1_before) at
-    the forces just evaluated. A pass contracts by about w |∂F/∂δ|/(c0 m) ≈ (ω h)²/4, ~1e-6 at
-    an analysis' base step, so a story on a linear branch (elastic, hardening, Takeda's
+    the forces just evaluated. A pass contracts by about w |∂F/∂δ|/(c0 m + k), at most
+    (ω h)²/(4 + (ω h)²) for a mode of frequency ω: ~1e-6 at an analysis' base step, so a story on a linear branch (elastic, hardening, Takeda's
     unloading, IMK's capping) or a smooth one (Bouc–Wen) is settled at its first evaluation in
     most steps: no tangent, no factorisation, no residual. As Newton, a pass that moves the state
     by ≤ ``tol`` of the displacements is the last (its state evaluated and taken); one within the
@@ -169,10 +170,8 @@ def settle_elements(md, fac, cf, h, el, tr, lin, f_prev, tol, max_iter):
                 # the inverse of a small system's J: n² independent products, not a chain of
                 # 2n dependent substitutions
                 for i in range(n):
-                    acc = 0.0
-                    for j in range(n):
-                        acc += fac.J_inv[i, j] * rhs[j]
-                    du[i] = acc
+                    du[i] = 0.0
+                _dense_matvec_add(fac.J_inv, rhs, 1.0, du)
             else:
                 band_solve(fac.L, fac.D, md.bw, rhs, du)
             big = 0.0
