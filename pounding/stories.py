@@ -47,7 +47,9 @@ Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) 
     δ_y + δ_p (``plastic_drift`` δ_p/h), then the post-cap slope −F_c/δ_pc (``post_cap_drift``
     δ_pc/h from the cap to zero force) down to the residual κ F_y (``residual``). Unloading at K_u
     to zero force, reloading to the target (the peak drift reached on that side) on the current
-    backbone. Each mode x (strength s, post-cap c, accelerated reloading a, unloading stiffness k)
+    backbone; through the side's local peak first (where its last unloading began below the
+    target) when the line to that point is the steeper, as OpenSees ``ModIMKPeakOriented``; a
+    partial unloading reloads at K_u until it meets that path. Each mode x (strength s, post-cap c, accelerated reloading a, unloading stiffness k)
     has an energy capacity E_t = γ_x F_y δ_y (``gamma_s`` ... ``gamma_k``; 0 = off) and
     β = (E_i/(E_t − ΣE))^c (``c``): at each zero-force crossing the side about to be loaded loses
     F_y, α_s ← (1 − β_s), F_ref ← (1 − β_c) (the post-cap line moves in), its target drift grows by
@@ -131,7 +133,10 @@ SS_KU_POS, SS_KU_NEG = 9, 10
 #: the path (W is the trapezoid per step, the energy ledger's own quadrature).
 SS_DS_POS, SS_DS_NEG, SS_DC_POS, SS_DC_NEG, SS_DK = 9, 10, 11, 12, 13
 SS_T_POS, SS_T_NEG, SS_E_REV, SS_W_CROSS, SS_FAILED, SS_WX = 14, 15, 16, 17, 18, 19
-N_STORY_STATE = 20
+#: IMK: the local peak of each side (drift [m] and force [N] where its last unloading began below
+#: its target; a force of 0 when there is none).
+SS_LD_POS, SS_LF_POS, SS_LD_NEG, SS_LF_NEG = 20, 21, 22, 23
+N_STORY_STATE = 24
 #: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14;
 #: drift parameters in metres).
 N_STORY_PARAMS = 16
@@ -317,7 +322,9 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     δ_pc [m], κ, γ_s, γ_c, γ_a, γ_k, c). Worked in the frame of the increment (the side being loaded
     is +), exact for a monotone drift increment: the deterioration is applied where it happens
     within it (the reversal, the zero-force crossing) and its energies are the exact work along the
-    piecewise-linear path (``SS_WX``; ``SS_W`` is the ledger's trapezoid per step)."""
+    piecewise-linear path (``SS_WX``; ``SS_W`` is the ledger's trapezoid per step). The reload
+    path runs from the zero-force drift through the local peak (``SS_LD_*``, ``SS_LF_*``) to the
+    target when the line to the local peak is steeper than the line to the target."""
     k, fy0, alpha, d_p, d_pc, kappa = p[0], p[1], p[2], p[3], p[4], p[5]
     g_s, g_c, g_a, g_k, c = p[6], p[7], p[8], p[9], p[10]
     dy = fy0 / k
@@ -356,8 +363,10 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     x, x0, g = sgn * d, sgn * d0, sgn * f0
     if sgn > 0.0:
         z_a, ds_a, dc_a, t_a = s0[SS_ZERO_POS], s0[SS_DS_POS], s0[SS_DC_POS], s0[SS_T_POS]
+        l_x, l_f, t_b = s0[SS_LD_POS], s0[SS_LF_POS], -s0[SS_T_NEG]
     else:
         z_a, ds_a, dc_a, t_a = -s0[SS_ZERO_NEG], s0[SS_DS_NEG], s0[SS_DC_NEG], -s0[SS_T_NEG]
+        l_x, l_f, t_b = -s0[SS_LD_NEG], -s0[SS_LF_NEG], s0[SS_T_POS]
     t_a = max(t_a, dy)
     direction = sgn * s0[SS_DIR]
     if direction < 0.0:
@@ -370,9 +379,16 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
             dk = 1.0 - (1.0 - dk) * (1.0 - beta)
             ku = k * (1.0 - dk) if not failed else ku
         s1[SS_E_REV] = e_now
+        # the other side starts to unload here, below its target: its local peak
+        if g < 0.0 and -x0 < max(t_b, dy):
+            if sgn > 0.0:
+                s1[SS_LD_NEG], s1[SS_LF_NEG] = d0, f0
+            else:
+                s1[SS_LD_POS], s1[SS_LF_POS] = d0, f0
     if direction <= 0.0 and g <= 0.0:
         z_a = x0 - g / ku
-    crossing = g < 0.0 and x >= z_a
+    # (a force rounded to exactly 0 an ulp short of z' still has its crossing ahead)
+    crossing = not failed and (g < 0.0 or (g == 0.0 and x0 < z_a)) and x >= z_a
     if crossing:
         # the force crosses zero in this increment: deterioration of the side now loaded
         w_cross = wx0 + 0.5 * g * (z_a - x0)
@@ -405,10 +421,14 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
             fe, se = f_res, 0.0
         return fe, se
 
-    # the reload line from (z', 0) to the target on the current backbone
+    # the reload line from (z', 0) to the target on the current backbone; through the local peak
+    # first when the line to it is steeper
     f_t = envelope(t_a)[0]
     z_use = min(z_a, t_a - f_t / k)
     k_line = f_t / (t_a - z_use) if f_t > 0.0 else 0.0
+    local = f_t > 0.0 and z_use < l_x < t_a and 0.0 < l_f < f_t and l_f > k_line * (l_x - z_use)
+    k_1 = l_f / (l_x - z_use) if local else k_line
+    k_2 = (f_t - l_f) / (t_a - l_x) if local else k_line
 
     def force_at(y):
         # the force and its slope at drift y of this increment (frame units)
@@ -418,24 +438,30 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
             return envelope(y)
         if g < 0.0 and y < z_a:
             return g + ku * (y - x0), ku
-        line = k_line * (y - z_use)
+        if local and y >= l_x:
+            line, slope = l_f + k_2 * (y - l_x), k_2
+        else:
+            line, slope = k_1 * (y - z_use), k_1
         if g > 0.0 and g + ku * (y - x0) < line:
             return g + ku * (y - x0), ku
-        return line, k_line
+        return line, slope
 
     gx, kt = force_at(x)
     # exact work along the path: trapezoids between the kinks it can pass (force_at is linear
     # between them): the zero crossing, the inner reload meeting the line, the target, and the
     # corners of the backbone
-    meet = (g - ku * x0 + k_line * z_use) / (k_line - ku) if k_line != ku else x0
+    meet_1 = (g - ku * x0 + k_1 * z_use) / (k_1 - ku) if k_1 != ku else x0
+    meet_2 = (g - ku * x0 - l_f + k_2 * l_x) / (k_2 - ku) if k_2 != ku else x0
     corners = (
-        z_a, meet, t_a, fy / k, f_ref / (k - k_c), f_res / k,
+        z_a, meet_1, meet_2, l_x, t_a, fy / k, f_ref / (k - k_c), f_res / k,
         (f_ref - fy + hard * fy / k) / (hard - k_c),
         (f_res - f_ref) / k_c,
         (f_res - fy + hard * fy / k) / hard if hard > 0.0 else x0,
     )  # fmt: skip
-    w = 0.0
-    lo, f_lo = x0, g
+    # a story failed here carries no force from then on: only the unloading to z' before the
+    # crossing that failed it did work
+    w = 0.5 * g * (z_a - x0) if failed and crossing else 0.0
+    lo, f_lo = (x, gx) if failed else (x0, g)
     while lo < x:
         hi = x
         for cx in corners:
@@ -444,13 +470,16 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         f_hi = force_at(hi)[0] if hi < x else gx
         w += 0.5 * (f_lo + f_hi) * (hi - lo)
         lo, f_lo = hi, f_hi
-    if t_a < x:
+    if x >= t_a:  # the envelope pushed: no local peak on this side
         t_a = x
+        l_x = l_f = 0.0
     f = sgn * gx
     if sgn > 0.0:
         s1[SS_ZERO_POS], s1[SS_DS_POS], s1[SS_DC_POS], s1[SS_T_POS] = z_a, ds_a, dc_a, t_a
+        s1[SS_LD_POS], s1[SS_LF_POS] = l_x, l_f
     else:
         s1[SS_ZERO_NEG], s1[SS_DS_NEG], s1[SS_DC_NEG], s1[SS_T_NEG] = -z_a, ds_a, dc_a, -t_a
+        s1[SS_LD_NEG], s1[SS_LF_NEG] = -l_x, -l_f
     s1[SS_DK] = dk
     s1[SS_DIR] = sgn
     s1[SS_FAILED] = 1.0 if failed else 0.0

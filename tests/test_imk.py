@@ -1,8 +1,8 @@
 """Ibarra–Medina–Krawinkler story springs (peak-oriented, cyclic deterioration): the kernel against
 an independent rule-by-rule implementation (monotonic backbone in closed form, cyclic and random
-histories with the four deterioration modes), the strength deterioration of a cycle by hand, the
-loop area, an independent event-driven solve_ivp of a 3-storey IMK building pounding on a wall,
-a sidesway collapse with P-Δ and the case file."""
+histories with the four deterioration modes), the strength deterioration of a cycle and the reload
+through a local peak by hand, the loop area, an independent event-driven solve_ivp of a 3-storey
+IMK building pounding on a wall, a sidesway collapse with P-Δ and the case file."""
 
 from __future__ import annotations
 
@@ -85,6 +85,7 @@ class _IMK:
         self.dc = {1: 0.0, -1: 0.0}
         self.t = {1: self.dy, -1: -self.dy}
         self.z = {1: 0.0, -1: 0.0}
+        self.peak = {1: (0.0, 0.0), -1: (0.0, 0.0)}  # local peaks (δ, F); F = 0: none
         self.slope = k  # of the branch that gave the last force
 
     @property
@@ -119,15 +120,38 @@ class _IMK:
                     out.append(m * (a2 - a1) / (b1 - b2))
         return out
 
-    def line(self, x: float, m: int) -> tuple[float, float]:
-        """The reload line L_m from (z', 0) to the target (t_m, F_env(t_m)); and its slope."""
+    def path(self, m: int) -> tuple[list[tuple[float, float]], float | None]:
+        """The reload path L_m from (z', 0) to the target (t_m, F_env(t_m)) as lines (value at
+        δ = 0, slope), two of them when it runs through the local peak (δ_l, F_l) first, a point
+        above the straight line; and δ_l then."""
         t = self.t[m]
         ft = self.env(t, m)[0]
         zp = m * min(m * self.z[m], m * t - m * ft / self.k)
         if ft == 0.0:
-            return 0.0, 0.0
+            return [(0.0, 0.0)], None
         s = ft / (t - zp)
-        return s * (x - zp), s
+        dl, fl = self.peak[m]
+        if m * zp < m * dl < m * t and 0.0 < m * fl < m * ft and m * fl > s * m * (dl - zp):
+            s1, s2 = fl / (dl - zp), (ft - fl) / (t - dl)
+            return [(-s1 * zp, s1), (fl - s2 * dl, s2)], dl
+        return [(-s * zp, s)], None
+
+    def line(self, x: float, m: int) -> tuple[float, float]:
+        """The reload path L_m at drift x, and its slope there."""
+        lines, dl = self.path(m)
+        a, s = lines[1] if dl is not None and m * (x - dl) >= 0.0 else lines[0]
+        return a + s * x, s
+
+    def meets(self, m: int) -> list[float]:
+        """Drifts where an inner reload at K_u from the committed state meets the reload path's
+        lines, and the local peak the path turns at."""
+        lines, dl = self.path(m)
+        out = [] if dl is None else [dl]
+        if m * self.f > 0.0:
+            out += [
+                (self.f - self.ku * self.d - a) / (s - self.ku) for a, s in lines if s != self.ku
+            ]
+        return out
 
     def beta(self, e_i: float, e_tot: float, mode: str) -> float:
         e_t = self.gamma[mode] * self.fy0 * self.dy
@@ -161,6 +185,9 @@ class _IMK:
                 self.dk = 1.0 - (1.0 - self.dk) * (1.0 - b)
                 self.failed = b >= 1.0
             self.ek = e_now
+            # side −m starts to unload here, below its target: its local peak
+            if m * f0 < 0.0 and -m * (self.d - self.t[-m]) < 0.0:
+                self.peak[-m] = (self.d, f0)
         if self.motion != m and m * f0 <= 0.0 and not self.failed:
             self.z[m] = self.d - f0 / self.ku
         self.motion = m
@@ -188,16 +215,15 @@ class _IMK:
         m = 1 if d > d0 else -1
         self._begin(m)
         start, w = d0, self.w
-        crossing = not self.failed and m * f0 < 0.0 and m * (d - self.z[m]) >= 0.0
+        ahead = m * f0 < 0.0 or (f0 == 0.0 and m * (d0 - self.z[m]) < 0.0)
+        crossing = not self.failed and ahead and m * (d - self.z[m]) >= 0.0
         if crossing:
             start, w = self.z[m], self._cross()
         # the exact work: the path is straight between the points where it may turn
         cuts = [self.t[m], self.z[m]]
         if m * d > m * self.t[m]:
             cuts += self.corners(m)
-        l0, s = self.line(0.0, m)
-        if m * f0 > 0.0 and s != self.ku:  # an inner reload meets the reload line
-            cuts.append((f0 - self.ku * d0 - l0) / (s - self.ku))
+        cuts += self.meets(m)
         inside = sorted((x for x in cuts if m * start < m * x < m * d), key=lambda x: m * x)
         self.turns = ([start] if crossing else []) + inside
         xs = [start, *inside, d]
@@ -211,6 +237,7 @@ class _IMK:
         f, s = path[-1]
         if not self.failed and m * (d - self.t[m]) >= 0.0:
             self.t[m] = d
+            self.peak[m] = (0.0, 0.0)  # the envelope pushed
         self.d, self.f, self.w, self.slope = d, f, w, s
 
     def step(self, d: float) -> None:
@@ -225,7 +252,7 @@ class _IMK:
 
     def copy(self) -> _IMK:
         other = copy.copy(self)
-        for name in ("ds", "dc", "t", "z"):
+        for name in ("ds", "dc", "t", "z", "peak"):
             setattr(other, name, dict(getattr(self, name)))
         return other
 
@@ -432,6 +459,35 @@ def test_strength_lost_in_a_constant_amplitude_cycle_by_hand():
         np.testing.assert_allclose(ref[ends, 0], rows[ends, 0], rtol=1e-12, atol=1e-9 * FY)
 
 
+def test_reload_after_an_inner_cycle_runs_through_the_local_peak_by_hand():
+    # no deterioration, α_s = 0.03, cap at 11 δ_y (units F_y0, δ_y, k = 1), vertices
+    # 4, −2, 3, −1.5, 3, 3.5, 4.5. To 4: 1.09; to −2: unload to 2.91, reload to the yield point
+    # (−1, −1), then the backbone: −1.03. To 3: unload to −0.97, reload toward (4, 1.09):
+    # 1.09 × 3.97/4.97 = 0.870684, where the + side's unloading begins below its target: its local
+    # peak. To −1.5: unload to z = 3 − 0.870684, reload toward (−2, −1.03): −0.905282. To 3: unload
+    # to z = −1.5 + 0.905282; the line to the local peak, slope 0.870684/(3 − z) = 0.242213, is
+    # steeper than the line to the target, 1.09/(4 − z) = 0.237228: the reload runs through
+    # (3, 0.870684), then on to (4, 1.09): 0.980342 at 3.5 (0.971381 on the straight line, as
+    # ModIMKPeakOriented's "towards local peak"), the backbone 1.105 at 4.5.
+    p = _params(plastic=10.0, post_cap=30.0)
+    f_3 = 1.09 * 3.97 / 4.97
+    z_1 = 3.0 - f_3
+    f_m = -1.03 * (z_1 + 1.5) / (z_1 + 2.0)
+    z_2 = -1.5 - f_m
+    assert (f_3, f_m) == pytest.approx((0.870684, -0.905282), abs=1e-6)
+    assert f_3 / (3.0 - z_2) > 1.09 / (4.0 - z_2)
+    f_35 = f_3 + 0.5 * (1.09 - f_3)
+    assert f_35 == pytest.approx(0.980342, abs=1e-6)
+    forces = [1.09, -1.03, f_3, f_m, f_3, f_35, 1.105]
+    for per_dy in (0, 20):
+        history, ends = piecewise([4.0, -2.0, 3.0, -1.5, 3.0, 3.5, 4.5], DY, per_dy)
+        rows = _drive(history, p)
+        np.testing.assert_allclose(rows[ends, 0], np.array(forces) * FY, rtol=1e-12)
+        assert rows[ends[5], 1] == pytest.approx((1.09 - f_3) * K, rel=1e-12)
+        ref, _ = _reference(history, p)
+        np.testing.assert_allclose(ref[ends, 0], rows[ends, 0], rtol=1e-12)
+
+
 def test_a_spent_strength_capacity_fails_the_story():
     # γ_s = 12: E_t = 12 F_y0 δ_y is spent within a few ±4 δ_y cycles; from the crossing where
     # β_s reaches 1 the story carries no force and has no stiffness, whatever the drift does
@@ -502,10 +558,7 @@ class _StoryEvents:
         d0, f0 = s.d, s.f
         s._begin(m)
         assert not s.failed
-        cuts = [s.z[m], s.t[m], *(x for x in s.corners(m) if m * x > m * s.t[m])]
-        l0, sl = s.line(0.0, m)
-        if m * f0 > 0.0 and sl != s.ku:
-            cuts.append((f0 - s.ku * d0 - l0) / (sl - s.ku))
+        cuts = [s.z[m], s.t[m], *(x for x in s.corners(m) if m * x > m * s.t[m]), *s.meets(m)]
         ahead = [x for x in cuts if m * (x - d0) > 1e-9 * s.dy]
         self.turn = min(ahead, key=lambda x: m * x) if ahead else m * math.inf
         probe = self.spring.copy()
