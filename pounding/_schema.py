@@ -809,8 +809,8 @@ def _collapse_times(
     raw: RawResult, ratio: np.ndarray, peak_ratio: np.ndarray, can: np.ndarray
 ) -> np.ndarray:
     """Per building that can collapse (``can``: yielding stories or P-Δ), the first output time a
-    story drift ratio exceeds the run's collapse drift, or the time an analysis stopped past it
-    (NaN: no collapse)."""
+    story drift ratio exceeds the run's collapse drift, or the time an analysis stopped past it or
+    at the failure of one of its stories (an IMK capacity spent; NaN: no collapse)."""
     limit = float(raw.info.get("collapse_drift", np.inf))
     with np.errstate(invalid="ignore"):
         beyond = np.abs(np.nan_to_num(ratio, nan=0.0)) > limit  # (time, building, story)
@@ -820,6 +820,9 @@ def _collapse_times(
     if math.isfinite(stopped):
         past = (np.nan_to_num(peak_ratio, nan=0.0).max(axis=1) > limit) & can
         out = np.where(np.isnan(out) & past, stopped, out)
+        for b in raw.info.get("failed_stories", ()):
+            if can[b] and np.isnan(out[b]):
+                out[b] = stopped
     return out
 
 

@@ -537,5 +537,5 @@ def run(
             collapse_drift=opts.collapse_drift,
         )
     raw.info["collapse_drift"] = float(opts.collapse_drift)
-    info.update({k: v for k, v in raw.info.items() if k != "dt"})
+    info.update({k: v for k, v in raw.info.items() if k not in ("dt", "failed_stories")})
     return raw, info

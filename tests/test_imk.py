@@ -715,6 +715,24 @@ def test_deteriorating_building_with_p_delta_collapses_under_a_long_pulse_and_th
     assert float(intact.story_ductility.max()) > 3.0  # yet well past yield
 
 
+@pytest.mark.parametrize("dt", [5e-3, 1e-3])
+def test_stories_spent_at_their_reversal_end_the_run_as_a_collapse_at_any_step(dt):
+    # a stiff 3-story building (T1 0.05 s) yielding at 1e-5 drift with γ = 30 for the four modes:
+    # the 0.3 g pulse drives every story to 18-107 δ_y, and its capacity is spent at the reversal
+    # there (K_u deteriorated to nothing: the force would drop from 1.5-4.2 F_y to zero). At
+    # dt = 5 ms Newton cannot take that drop; at 1 ms it can. Either way the building has lost its
+    # stories: a collapse at the same time, the rows after it NaN, not a ConvergenceError.
+    params = {"yield_drift": 1e-5, **{f"gamma_{m}": 30.0 for m in "scak"}}
+    building = ShearBuilding.uniform("A", 3, period=0.05, mass=2e5, stories=Stories("imk", params))
+    gm = sine_pulse(amplitude=0.3 * 9.80665, period=0.6, duration=1.0, dt=0.005)
+    ds = simulate(assemble([building]), gm, dt=dt, output_dt=0.01, duration=1.0)
+    t_c = float(ds.collapse_time.sel(building="A"))
+    assert t_c == pytest.approx(0.205, abs=1e-3)
+    assert ds.pounding.summary()["buildings"]["A"]["collapse_time"] == pytest.approx(t_c)
+    assert bool(np.isnan(ds.displacement.where(ds.time > t_c + 0.01, drop=True)).all())
+    assert float(ds.story_ductility.max()) > 100.0
+
+
 # ---------------------------------------------------------------------------------------------
 # the case file
 

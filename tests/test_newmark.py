@@ -16,6 +16,7 @@ from pounding.integrators import METHODS
 from pounding.integrators.base import ConvergenceError
 from pounding.integrators.newmark import HHT, get_scheme, integrate_newmark
 from pounding.simulate import simulate
+from pounding.stories import Stories
 from pounding.structure import ModalDamping, ShearBuilding
 from pounding.system import Contact, assemble
 from pounding.units import G
@@ -165,6 +166,16 @@ def test_newton_failure_raises_convergence_error_with_time():
     msg = str(err.value)
     assert "max_halvings = 12" in msg and "max_iter = 25" in msg
     assert "locate_onset" not in msg and "adaptive" not in msg and "a smaller dt" in msg
+
+
+def test_newton_failure_without_contacts_does_not_suggest_a_softer_contact():
+    stories = Stories("bilinear", {"yield_drift": 1e-5, "hardening": 0.03})
+    system = assemble([ShearBuilding.uniform("A", 3, period=0.05, mass=2e5, stories=stories)])
+    gm = sine_pulse(amplitude=0.3 * 9.81, period=0.6, duration=1.0, dt=0.005)
+    with pytest.raises(ConvergenceError, match="no contact") as err:
+        integrate_newmark(system, gm, dt=0.005, output_every=1, n_steps=200, max_iter=1,
+                          max_halvings=0)  # fmt: skip
+    assert "a smaller dt" in str(err.value) and "contact k" not in str(err.value)
 
 
 def test_energy_balance_closes_for_pounding_pair():

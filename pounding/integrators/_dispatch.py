@@ -160,6 +160,8 @@ _story_stored = jit(_stories.story_stored)
 
 FAMILY_LINK = _links.FAMILY_LINK
 FAMILY_STORY = _stories.FAMILY_STORY
+_IMK = _stories.STORY_MODELS["imk"].kernel_id
+_SS_FAILED = _stories.SS_FAILED
 
 
 @jit_inline
@@ -192,3 +194,10 @@ def element_stored(kind, law, d, f, s, p):
     if law == 1:
         return _viscous_link_stored(d, f, s, p)
     return _maxwell_link_stored(d, f, s, p)
+
+
+@jit_inline
+def element_failed(kind, law, s):
+    """True when an element's state says it has spent its capacity (an IMK story at β = 1: no force
+    from then on, its building has collapsed)."""
+    return kind == FAMILY_STORY and law == _IMK and s[_SS_FAILED] > 0.0

@@ -28,6 +28,7 @@ from pounding.integrators._dispatch import (
     bouc_wen_slide,
     contact_eval,
     element_eval,
+    element_failed,
     element_stored,
     friction_eval,
     friction_hysteretic_eval,
@@ -247,12 +248,17 @@ def add_row_tangent(x_dof, x_sign, kc, J):
 
 @jit_inline
 def commit_elements(el):
-    """Accept the trial state of every family element as the start of the next step."""
+    """Accept the trial state of every family element as the start of the next step; True when an
+    element has spent its capacity (:func:`element_failed`)."""
+    failed = False
     for e in range(el.kind.size):
         el.d0[e] = el.d1[e]
         el.f0[e] = el.f1[e]
         for j in range(el.state.shape[1]):
             el.state[e, j] = el.trial[e, j]
+        if element_failed(el.kind[e], el.law[e], el.state[e]):
+            failed = True
+    return failed
 
 
 @jit_internal

@@ -255,7 +255,8 @@ def accept(g1, md, x0, tr, gaps, fr, el, out):
         # column 0 of a family's state is the force it reports (a story: its spring force)
         if abs(el.trial[j, 0]) > out.peak_lf[j]:
             out.peak_lf[j] = abs(el.trial[j, 0])
-    commit_elements(el)
+    if commit_elements(el):  # a story failed: its building has collapsed
+        out.counters[CNT_STATUS] = STATUS_COLLAPSE
 
 
 @jit_internal

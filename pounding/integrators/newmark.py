@@ -63,7 +63,17 @@ from pounding.integrators.base import (
     v0_floor,
 )
 from pounding.links import FAMILY_LINK, N_LINK_PARAMS, N_LINK_STATE
-from pounding.stories import FAMILY_STORY, N_STORY_PARAMS, N_STORY_STATE, SS_E, SS_W
+from pounding.stories import (
+    FAMILY_STORY,
+    N_STORY_PARAMS,
+    N_STORY_STATE,
+    SS_D,
+    SS_DIR,
+    SS_E,
+    SS_FAILED,
+    SS_W,
+    STORY_MODELS,
+)
 from pounding.system import PoundingSystem
 
 #: Newton iterations per step and step halvings allowed by default.
@@ -190,9 +200,11 @@ def _contacts_at_failure(
     return f"{label}{'s' if len(names) > 1 else ''} {', '.join(names)}" if names else "no contact"
 
 
-def _remedies(max_iter: int, max_halvings: int, locate_onset: bool, adaptive: bool) -> str:
+def _remedies(
+    max_iter: int, max_halvings: int, locate_onset: bool, adaptive: bool, contacts: bool = True
+) -> str:
     """What a user can still change after a Newton failure: the options below their defaults (in
-    the [analysis] table), then a smaller dt or a softer contact."""
+    the [analysis] table), then a smaller dt or, with contacts, a softer contact."""
     steps = []
     if max_halvings < MAX_HALVINGS:
         steps.append(f"max_halvings = {MAX_HALVINGS}")
@@ -203,7 +215,7 @@ def _remedies(max_iter: int, max_halvings: int, locate_onset: bool, adaptive: bo
     if not adaptive:
         steps.append("adaptive = true")
     options = f"[analysis] {', '.join(steps)}, " if steps else ""
-    return f"{options}a smaller dt, or a softer contact k"
+    return f"{options}a smaller dt" + (", or a softer contact k" if contacts else "")
 
 
 def _f64(x: np.ndarray) -> np.ndarray:
@@ -283,6 +295,26 @@ def _collapsed(system: PoundingSystem, peak_drift: np.ndarray, limit: float) -> 
     return bool(np.any(peak_drift > collapse_drifts(system, limit)))
 
 
+def _failed_buildings(
+    system: PoundingSystem, state: np.ndarray, reversal: bool = False
+) -> list[int]:
+    """Buildings with an IMK story whose energy capacity is spent in ``state`` (the story rows of
+    the committed element state): it carries no force any more, its building has collapsed. With
+    ``reversal``, also a story whose next reversal spends it (its unloading stiffness gone: the
+    force drops from the peak to zero there, which no step of Newton gets past)."""
+    st = system.stories
+    imk = STORY_MODELS["imk"]
+    spent = (st.law_id == imk.kernel_id) & (state[:, SS_FAILED] > 0.0)
+    if reversal:
+        trial = np.zeros(state.shape[1])
+        for r in np.flatnonzero((st.law_id == imk.kernel_id) & ~spent):
+            back = -np.sign(state[r, SS_DIR]) * 1e-9 * st.params[r, 1] / st.params[r, 0]
+            if back != 0.0:
+                imk.kernel(state[r, SS_D] + back, 0.0, 0.0, state[r], trial, st.params[r])
+                spent[r] = trial[SS_FAILED] > 0.0
+    return sorted({int(b) for b in st.building[spent]})
+
+
 def _blank_after(out: kn.Output, output_dt: float, t_end: float) -> None:
     """NaN in the output rows after ``t_end``, which the analysis did not reach."""
     rows = np.arange(out.u.shape[0]) * output_dt > t_end + 1e-9 * output_dt
@@ -325,11 +357,14 @@ def integrate_newmark(
     Output every ``output_every`` base steps. With ``adaptive``, steps inside a contact are shortened to
     resolve each impact by ``steps_per_contact`` steps of its own undamped contact duration at its v0
     (see :func:`contact_duration_coefficients`); base steps are taken while every gap is open.
-    The analysis ends when a story's drift ratio passes ``collapse_drift`` (``info["stopped_at"]``,
-    the output rows after it NaN). Raises :class:`ConvergenceError` when Newton fails even after
-    ``max_halvings`` halvings of the step, unless a story is already past ``collapse_drift``.
+    The analysis ends when a story's drift ratio passes ``collapse_drift`` or an IMK story spends
+    its energy capacity (``info["stopped_at"]``; ``info["failed_stories"]`` the buildings of such
+    stories; the output rows after it NaN). Raises :class:`ConvergenceError` when Newton fails even
+    after ``max_halvings`` halvings of the step, unless a story is already past ``collapse_drift``
+    or has failed.
     """
     sch = get_scheme(scheme)
+    n_links = len(system.links)
     if not (dt > 0 and math.isfinite(dt)):
         raise PoundingInputError(f"dt = {dt}; allowed: a positive number [s]")
     el = system.elements
@@ -385,11 +420,19 @@ def integrate_newmark(
         if status == kn.STATUS_IMPACT_LOG_FULL:
             impact_capacity *= 4
             continue
-        if status == kn.STATUS_COLLAPSE or (
-            status == kn.STATUS_NO_CONVERGENCE
-            and _collapsed(system, out.peak_drift, collapse_drift)
+        failed = _failed_buildings(
+            system, elements.state[n_links:], reversal=status == kn.STATUS_NO_CONVERGENCE
+        )
+        if (
+            status == kn.STATUS_COLLAPSE
+            or failed
+            or (
+                status == kn.STATUS_NO_CONVERGENCE
+                and _collapsed(system, out.peak_drift, collapse_drift)
+            )
         ):
-            # a building past its collapse drift: the analysis ends there, its result stands
+            # a building past its collapse drift or with a failed story: the analysis ends
+            # there, its result stands
             _blank_after(out, dt * output_every, t_reached)
             collapse = t_reached
         elif status == kn.STATUS_NO_CONVERGENCE:
@@ -399,11 +442,10 @@ def integrate_newmark(
             raise ConvergenceError(
                 f"Newton-Raphson did not converge at t = {t_reached:.6g} s, {where}, with dt = "
                 f"{dt:.3g} s, max_iter = {max_iter} and the step halved up to {max_halvings} times; "
-                f"try {_remedies(max_iter, max_halvings, locate_onset, adaptive)}"
+                f"try {_remedies(max_iter, max_halvings, locate_onset, adaptive, n_el > 0)}"
             )
         break
     n_imp = int(counters[kn.CNT_IMPACTS])
-    n_links = len(system.links)
     impacts = {"element": imp_el[:n_imp].copy()}
     for j, name in enumerate(IMPACT_FIELDS[1:]):
         impacts[name] = imp_val[:n_imp, j].copy()
@@ -445,5 +487,6 @@ def integrate_newmark(
             "adaptive": int(bool(adaptive)),
             "v0_floor": floor,
             "stopped_at": collapse,
+            "failed_stories": failed,
         },
     )
