@@ -17,7 +17,7 @@ from scipy.integrate import solve_ivp
 
 from pounding import simulate
 from pounding.case import CaseError, case_from_dict
-from pounding.ground_motion import GroundMotion, sine_pulse
+from pounding.ground_motion import GroundMotion, harmonic, sine_pulse
 from pounding.stories import (
     N_STORY_PARAMS,
     N_STORY_STATE,
@@ -715,22 +715,46 @@ def test_deteriorating_building_with_p_delta_collapses_under_a_long_pulse_and_th
     assert float(intact.story_ductility.max()) > 3.0  # yet well past yield
 
 
-@pytest.mark.parametrize("dt", [5e-3, 1e-3])
-def test_stories_spent_at_their_reversal_end_the_run_as_a_collapse_at_any_step(dt):
+@pytest.mark.parametrize("options", [{"dt": 5e-3}, {"dt": 1e-3}, {"method": "ivp"}])
+def test_stories_spent_at_their_reversal_end_the_run_as_a_collapse_at_any_step(options):
     # a stiff 3-story building (T1 0.05 s) yielding at 1e-5 drift with γ = 30 for the four modes:
     # the 0.3 g pulse drives every story to 18-107 δ_y, and its capacity is spent at the reversal
     # there (K_u deteriorated to nothing: the force would drop from 1.5-4.2 F_y to zero). At
-    # dt = 5 ms Newton cannot take that drop; at 1 ms it can. Either way the building has lost its
-    # stories: a collapse at the same time, the rows after it NaN, not a ConvergenceError.
+    # dt = 5 ms Newton cannot take that drop; at 1 ms it can; the ivp integration stops at the
+    # reversal event. Each way the building has lost its stories: a collapse at the same time,
+    # the rows after it NaN, not a ConvergenceError.
     params = {"yield_drift": 1e-5, **{f"gamma_{m}": 30.0 for m in "scak"}}
     building = ShearBuilding.uniform("A", 3, period=0.05, mass=2e5, stories=Stories("imk", params))
     gm = sine_pulse(amplitude=0.3 * 9.80665, period=0.6, duration=1.0, dt=0.005)
-    ds = simulate(assemble([building]), gm, dt=dt, output_dt=0.01, duration=1.0)
+    ds = simulate(assemble([building]), gm, output_dt=0.01, duration=1.0, **options)
     t_c = float(ds.collapse_time.sel(building="A"))
-    assert t_c == pytest.approx(0.205, abs=1e-3)
+    assert t_c == pytest.approx(0.20503, abs=5e-5 if "method" in options else options["dt"])
     assert ds.pounding.summary()["buildings"]["A"]["collapse_time"] == pytest.approx(t_c)
     assert bool(np.isnan(ds.displacement.where(ds.time > t_c + 0.01, drop=True)).all())
     assert float(ds.story_ductility.max()) > 100.0
+
+
+def test_strength_spent_at_a_zero_force_crossing_ends_both_integrators_at_that_crossing():
+    # γ_s = 10 only (the unloading stiffness keeps k): a 0.25 g harmonic at 0.4 s spends the
+    # strength capacity of a story at a zero-force crossing, where its force is zero anyway; the
+    # story has no strength left, the building collapses there. Newmark at dt 1e-4 ends in the
+    # step holding the crossing, the ivp integration at the located crossing.
+    params = {"yield_drift": 0.002, "gamma_s": 10.0, "plastic_drift": 0.05}
+    building = ShearBuilding.uniform("A", 3, period=0.3, mass=2e5, stories=Stories("imk", params))
+    system = assemble([building])
+    gm = harmonic(amplitude=0.25 * 9.80665, period=0.4, duration=4.0, dt=0.005)
+    fixed = simulate(system, gm, dt=1e-4, output_dt=0.01, duration=4.0)
+    events = simulate(system, gm, method="ivp", output_dt=0.01, duration=4.0)
+    t_n = float(fixed.collapse_time.sel(building="A"))
+    t_e = float(events.collapse_time.sel(building="A"))
+    assert 2.0 < t_e < 3.5 and t_e <= t_n < t_e + 1.0001e-4
+    for ds, t_c in ((fixed, t_n), (events, t_e)):
+        before = ds.story_spring_force.where(ds.time < t_c, drop=True)
+        assert float(np.abs(before).max()) > 3e5 and not bool(np.isnan(before).any())
+        assert bool(np.isnan(ds.displacement.where(ds.time > t_c + 0.01, drop=True)).all())
+    assert float(events.story_ductility.max()) == pytest.approx(
+        float(fixed.story_ductility.max()), rel=1e-3
+    )
 
 
 # ---------------------------------------------------------------------------------------------

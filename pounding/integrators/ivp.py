@@ -50,7 +50,10 @@ How the integration is cut into pieces:
   (``bilinear``, ``takeda``, ``imk``) has a terminal event at each reversal of its drift (δ̇ = 0
   against its motion); its kernel state is committed at every restart, so between reversals its
   force is the kernel's exact answer for the monotone drift since then, kinks (yield, zero-force
-  crossing, reloading onto the backbone) included, and its work ∫F dδ is a state.
+  crossing, reloading onto the backbone) included, and its work ∫F dδ is a state. An IMK story
+  whose capacity its next reversal or zero-force crossing spends has that point as a terminal
+  event: there its building has collapsed and the analysis ends (``info["stopped_at"]``), as the
+  Newmark integrators end in the step that holds it.
 
 Peaks are taken from the dense output at :data:`SAMPLES_PER_STEP` points inside every accepted solver
 step, plus the step ends and the event points, not only on the output grid; the contact force and
@@ -97,7 +100,15 @@ from pounding.integrators.base import (
     response_scales,
     v0_floor,
 )
-from pounding.stories import N_STORY_STATE, STORY_MODELS
+from pounding.stories import (
+    N_STORY_STATE,
+    SS_D,
+    SS_F,
+    SS_FAILED,
+    SS_ZERO_NEG,
+    SS_ZERO_POS,
+    STORY_MODELS,
+)
 from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB, PoundingSystem
 
 #: Kernel id of the Bouc–Wen story model (its ζ and ε are ODE states here).
@@ -505,6 +516,45 @@ class _Model:
             self.st_committed[e] = self.st_trial[e]
             if self.st_dir[e] == 0.0 and dd[e] != 0.0:
                 self.st_dir[e] = math.copysign(1.0, dd[e])
+
+    def story_failures(self) -> tuple[list[int], list[tuple[int, float, float]]]:
+        """IMK stories at their committed state: the rows failed, or failing at the start of their
+        next increment (a reversal that spends the unloading stiffness: the force drops to zero
+        there); and (row, drift z [m], direction) of those whose next zero-force crossing, at z,
+        spends a capacity (a terminal event)."""
+        imk = STORY_MODELS["imk"]
+        now, ahead = [], []
+        trial = np.zeros(N_STORY_STATE)
+        for e in self.st_pl[self.st_law[self.st_pl] == imk.kernel_id]:
+            s0, p, m = self.st_committed[e], self.stories.params[e], self.st_dir[e]
+            if s0[SS_FAILED] > 0.0:
+                now.append(int(e))
+                continue
+            if m == 0.0:
+                continue
+            tiny = m * 1e-9 * p[1] / p[0]
+            imk.kernel(s0[SS_D] + tiny, 0.0, 0.0, s0, trial, p)
+            if trial[SS_FAILED] > 0.0:
+                now.append(int(e))
+                continue
+            z = trial[SS_ZERO_POS if m > 0.0 else SS_ZERO_NEG]
+            if m * s0[SS_F] < 0.0 and m * (z - s0[SS_D]) > 0.0:
+                imk.kernel(z + tiny, 0.0, 0.0, s0, trial, p)
+                if trial[SS_FAILED] > 0.0:
+                    ahead.append((int(e), float(z), float(m)))
+        return now, ahead
+
+    def failure_events(self, ahead: list[tuple[int, float, float]]) -> list:
+        """Terminal events: a story's drift reaching the zero-force drift z where it fails."""
+        events = []
+        for e, z, m in ahead:
+
+            def event(t, y, e=e, z=z):
+                return float(self.story_drifts(y[self.iu])[e]) - z
+
+            event.terminal, event.direction = True, m
+            events.append(event)
+        return events
 
     def element_value(self, y: np.ndarray, c: int, key: str) -> float:
         """Penetration δ [m] (key "d") or contact force [N] (key "force") of element c at state y."""
@@ -1044,11 +1094,19 @@ def integrate_ivp(
 
     # t_end = 0: nothing to integrate, the structure is at rest (the zero-initialised outputs)
     bps = _breakpoints(ground, t_end) if t_end > 0.0 else np.zeros(1)
+    stopped, failed = math.nan, []
     for ta, tb in zip(bps[:-1], bps[1:], strict=True):
         model.set_ground(ground, ta, tb)
         while t < tb:
             model.commit_stories(y)
             n_pl = model.st_pl.size
+            now, ahead = model.story_failures()
+            if now:  # a story failed: its building has collapsed, the analysis ends here
+                stopped, failed = t, now
+                break
+            events = _events(model, in_contact) if model.ne or model.coulomb.size or n_pl else []
+            n_base = len(events)
+            events += model.failure_events(ahead)
             sol = solve_ivp(
                 model.rhs,
                 (t, tb),
@@ -1058,9 +1116,7 @@ def integrate_ivp(
                 atol=atol_vec,
                 max_step=max_step,
                 first_step=None if first_step is None else min(first_step, tb - t),
-                events=_events(model, in_contact)
-                if model.ne or model.coulomb.size or n_pl
-                else None,
+                events=events or None,
                 dense_output=True,
             )
             n_calls += 1
@@ -1100,6 +1156,14 @@ def integrate_ivp(
                 continue
             y = sol.y[:, -1].copy()
             t = t_new
+            hit = (
+                [ahead[j][0] for j, te in enumerate(sol.t_events[n_base:]) if te.size]
+                if ahead
+                else []
+            )
+            if sol.status == 1 and hit:
+                stopped, failed = t, hit
+                break
             if sol.status == 1:
                 n_fr = model.ne + model.coulomb.size
                 n_term = n_fr + n_pl  # the terminal events come first
@@ -1115,8 +1179,13 @@ def integrate_ivp(
                         model.st_dir[model.st_pl[c - n_fr]] *= -1.0
                         n_events += 1
                 first_step = None  # a new contact phase: let the solver choose its first step
+        if failed:
+            break
 
     out = rec.out
+    if failed:
+        for arr in out.values():
+            arr[rec.next :] = np.nan
     impulse_now = y[model.ij]
     return RawResult(
         time=times.copy(),
@@ -1150,6 +1219,8 @@ def integrate_ivp(
             n_calls=n_calls,
             samples_per_step=SAMPLES_PER_STEP,
             v0_floor=model.v0_floor,
+            stopped_at=stopped,
+            failed_stories=sorted({int(model.stories.building[e]) for e in failed}),
         ),
     )
 
