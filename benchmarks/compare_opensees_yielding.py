@@ -31,9 +31,10 @@ OpenSees arguments (read from SRC/material/uniaxial/*.cpp of OpenSees/OpenSees; 
 * ``ModIMKPeakOriented Ke=k alfaPos=alfaNeg=0.03 My_pos=F_y My_neg=−F_y Ls=Ld=La=50 δ_y
   Lk=50 δ_y/2 Cs=Cd=Ca=Ck=1 thetaP±=0.02 h thetaPC±=0.10 h Resfac±=0.2 fracDisp±=1e3 m D±=1``:
   energy capacities Ls My etc. and 2 Lk My = γ F_y δ_y; cap at My/Ke + thetaP, post-cap slope
-  −F_cap/thetaPC. Its reloading differs from pounding's (see RESULTS.md): after a partial
-  unloading it aims at the last unloading point (dlst, flst) when that line is steeper than the
-  line to the peak; pounding aims at the peak.
+  −F_cap/thetaPC. Both reload through the last unloading point (OpenSees dlst, flst) when that
+  line is steeper than the line to the peak. They differ in the unloading-stiffness loss at a
+  reversal between two zero-force crossings: OpenSees takes the energy dissipated since the last
+  crossing at every such reversal, pounding the energy since the last reversal (see RESULTS.md).
 
 Damping: pounding's Rayleigh C = a0 M + a1 K0 is constant; OpenSees gets
 ``region ... -rayleigh a0 0 a1 0`` (β on the initial stiffness, not the tangent).
