@@ -1004,9 +1004,15 @@ def _warnings(summary: Mapping[str, Any], attrs: Mapping[str, Any]) -> list[str]
     for name, b in summary["buildings"].items():
         drift = b["peak_drift_ratio"]
         if "collapse_time" in b:
+            limit_c = float(attrs.get("collapse_drift", np.nan))
+            # a run collapses past its collapse drift or when a story's capacity is spent
+            why = (
+                f"a story drift ratio beyond [analysis] collapse_drift = {limit_c:g}"
+                if drift > limit_c
+                else "a story's energy capacity spent: IMK β = 1, no force from then on"
+            )
             found.append(
-                f"building {name}: collapse at t = {b['collapse_time']:.4g} s (a story drift ratio "
-                f"beyond [analysis] collapse_drift = {attrs.get('collapse_drift', np.nan):g}); the "
+                f"building {name}: collapse at t = {b['collapse_time']:.4g} s ({why}); the "
                 "analysis stops there"
             )
         elif math.isfinite(limit) and drift > limit and "peak_story_ductility" not in b:

@@ -706,7 +706,9 @@ def test_deteriorating_building_with_p_delta_collapses_under_a_long_pulse_and_th
     after = ds.time > t_c + 0.02
     assert bool(np.isnan(ds.displacement.where(after, drop=True)).all())
     assert not bool(np.isnan(ds.displacement.where(ds.time < t_c, drop=True)).any())
-    assert ds.pounding.summary()["buildings"]["A"]["collapse_time"] == pytest.approx(t_c)
+    summary = ds.pounding.summary()
+    assert summary["buildings"]["A"]["collapse_time"] == pytest.approx(t_c)
+    assert any("beyond [analysis] collapse_drift = 0.08" in w for w in summary["warnings"])
     # the same building and pulse, without P-Δ and without deterioration: well short of it
     intact = simulate(assemble([_collapse_building(False, False)]), gm, **opts)
     assert np.isnan(float(intact.collapse_time.sel(building="A")))
@@ -729,7 +731,9 @@ def test_stories_spent_at_their_reversal_end_the_run_as_a_collapse_at_any_step(o
     ds = simulate(assemble([building]), gm, output_dt=0.01, duration=1.0, **options)
     t_c = float(ds.collapse_time.sel(building="A"))
     assert t_c == pytest.approx(0.20503, abs=5e-5 if "method" in options else options["dt"])
-    assert ds.pounding.summary()["buildings"]["A"]["collapse_time"] == pytest.approx(t_c)
+    summary = ds.pounding.summary()
+    assert summary["buildings"]["A"]["collapse_time"] == pytest.approx(t_c)
+    assert any("energy capacity spent" in w for w in summary["warnings"])
     assert bool(np.isnan(ds.displacement.where(ds.time > t_c + 0.01, drop=True)).all())
     assert float(ds.story_ductility.max()) > 100.0
 
