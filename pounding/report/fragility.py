@@ -262,8 +262,9 @@ def fragility_report(ds: xr.Dataset, store: Path | None = None) -> Report:
         f"Incremental dynamic analysis (Vamvatsikos & Cornell 2002): {levels}, {scaled}, "
         f"for every variant{'' if hunt else ' and without contact'}. Collapse: a building "
         "with yielding stories "
-        f"or P-Δ whose story drift ratio passes {collapse:g}, where the analysis stops (a Newton "
-        "failure past it counts as collapse); a collapsed run reaches every drift limit state. "
+        f"or P-Δ whose story drift ratio passes {collapse:g}, or with an IMK story whose energy "
+        "capacity is spent, where the analysis stops (a Newton failure past that drift or at that "
+        "story counts as collapse); a collapsed run reaches every drift limit state. "
         f"{failed} run(s) failed and are left out. Fits: {fr.attrs.get('method', '')}; "
         f"elastic buildings cannot collapse, so their collapse fragility is that of the others."
     )
