@@ -228,7 +228,8 @@ ANALYSIS_KEYS = (
         "collapse_drift",
         "number",
         f"story drift ratio taken as collapse of a building with yielding stories or P-Δ (default "
-        f"{COLLAPSE_DRIFT}): the analysis stops there and records the time",
+        f"{COLLAPSE_DRIFT}): the analysis stops there and records the time (an IMK story whose "
+        "energy capacity is spent is a collapse too)",
         "",
         0.0,
         10.0,
