@@ -533,13 +533,13 @@ class _Model:
             if m == 0.0:
                 continue
             tiny = m * 1e-9 * p[1] / p[0]
-            imk.kernel(s0[SS_D] + tiny, 0.0, 0.0, s0, trial, p)
+            element_eval(FAMILY_STORY, imk.kernel_id, s0[SS_D] + tiny, 0.0, 0.0, s0, trial, p)
             if trial[SS_FAILED] > 0.0:
                 now.append(int(e))
                 continue
             z = trial[SS_ZERO_POS if m > 0.0 else SS_ZERO_NEG]
             if m * s0[SS_F] < 0.0 and m * (z - s0[SS_D]) > 0.0:
-                imk.kernel(z + tiny, 0.0, 0.0, s0, trial, p)
+                element_eval(FAMILY_STORY, imk.kernel_id, z + tiny, 0.0, 0.0, s0, trial, p)
                 if trial[SS_FAILED] > 0.0:
                     ahead.append((int(e), float(z), float(m)))
         return now, ahead
