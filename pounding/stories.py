@@ -49,8 +49,8 @@ Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) 
     to zero force, reloading to the target (the peak drift reached on that side) on the current
     backbone; through the side's local peak first (where its last unloading began below the
     target) when the line to that point is the steeper, as OpenSees ``ModIMKPeakOriented``; a
-    partial unloading reloads at K_u until it meets that path. Each mode x (strength s, post-cap c, accelerated reloading a, unloading stiffness k)
-    has an energy capacity E_t = γ_x F_y δ_y (``gamma_s`` ... ``gamma_k``; 0 = off) and
+    partial unloading reloads at K_u until it meets that path. Each mode x (strength s, post-cap
+    c, accelerated reloading a, unloading stiffness k) has an energy capacity E_t = γ_x F_y δ_y (``gamma_s`` ... ``gamma_k``; 0 = off) and
     β = (E_i/(E_t − ΣE))^c (``c``): at each zero-force crossing the side about to be loaded loses
     F_y, α_s ← (1 − β_s), F_ref ← (1 − β_c) (the post-cap line moves in), its target drift grows by
     (1 + β_a); at each reversal K_u ← (1 − β_k) K_u (E_i: hysteretic energy since the last
@@ -489,6 +489,27 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     s1[SS_WX] = wx0 + w
     s1[SS_E] = 0.0 if failed else 0.5 * f * f / ku
     return f - k * d, kt - k, 0.0
+
+
+def imk_failure_ahead(s0: np.ndarray, p: np.ndarray, direction: float) -> tuple[bool, float]:
+    """Where an IMK story at committed state ``s0`` moving in ``direction`` (±1) next spends an
+    energy capacity: (True, NaN) when already failed or at the start of that motion (a reversal
+    that spends the unloading stiffness: the force drops from where it is to zero); (False, z) when
+    its zero-force crossing at drift z [m] ahead does; (False, NaN) when neither. Both found by the
+    kernel over an increment 1e-9 δ_y long, or reaching 1e-9 δ_y past z."""
+    if s0[SS_FAILED] > 0.0:
+        return True, math.nan
+    trial = np.zeros_like(s0)
+    tiny = direction * 1e-9 * p[1] / p[0]
+    imk_story_kernel(s0[SS_D] + tiny, 0.0, 0.0, s0, trial, p)
+    if trial[SS_FAILED] > 0.0:
+        return True, math.nan
+    z = trial[SS_ZERO_POS if direction > 0.0 else SS_ZERO_NEG]
+    if direction * s0[SS_F] < 0.0 and direction * (z - s0[SS_D]) > 0.0:
+        imk_story_kernel(z + tiny, 0.0, 0.0, s0, trial, p)
+        if trial[SS_FAILED] > 0.0:
+            return False, float(z)
+    return False, math.nan
 
 
 def story_stored(d, f, s, p):

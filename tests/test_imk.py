@@ -21,10 +21,13 @@ from pounding.ground_motion import GroundMotion, harmonic, sine_pulse
 from pounding.stories import (
     N_STORY_PARAMS,
     N_STORY_STATE,
+    SS_D,
     SS_E,
     SS_F,
+    SS_FAILED,
     SS_WX,
     Stories,
+    imk_failure_ahead,
     imk_story_kernel,
 )
 from pounding.structure import ShearBuilding
@@ -505,6 +508,30 @@ def test_a_spent_strength_capacity_fails_the_story():
     assert 4 < i < history.size - 4  # after a few cycles, before the end
     assert not np.any(ours[i:, 0]) and not np.any(ours[i + 1 :, 1])
     assert np.abs(ours[:i, 0]).max() > FY
+
+
+@pytest.mark.parametrize("gammas", [(12.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 6.0)])
+def test_the_failure_ahead_is_the_crossing_or_reversal_where_the_kernel_fails_the_story(gammas):
+    # a strength capacity is spent at a zero-force crossing, an unloading-stiffness one at a
+    # reversal: before every step, imk_failure_ahead names where the coming motion fails the story
+    # (the start of the motion, or the crossing drift z), and the step fails it exactly when it
+    # starts there or reaches z
+    p = _params(plastic=10.0, post_cap=30.0, gammas=gammas)
+    history, _ = piecewise(np.tile([4.0, -4.0], 8), DY, 10)
+    s0, s1 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
+    failed_at = None
+    for j, d in enumerate(history):
+        m = 1.0 if d > s0[SS_D] else -1.0
+        now, z = imk_failure_ahead(s0, p, m)
+        imk_story_kernel(d, 0.0, 3.0, s0, s1, p)
+        reaches = math.isfinite(z) and m * (d - z) >= 0.0
+        assert bool(s1[SS_FAILED]) == (now or reaches), j
+        if s1[SS_FAILED] and failed_at is None:
+            failed_at = (j, now, z)
+        s0[:] = s1
+    assert failed_at is not None and 20 < failed_at[0] < history.size - 20
+    assert failed_at[1] == (gammas[3] > 0.0)  # at a reversal, or at a crossing z
+    assert math.isfinite(failed_at[2]) == (gammas[0] > 0.0)
 
 
 _CYCLES = [6.0, -6.0, 6.0, -6.0, 2.0, 4.0, -1.0, 6.0, -6.0, 6.0]  # units δ_y

@@ -100,15 +100,7 @@ from pounding.integrators.base import (
     response_scales,
     v0_floor,
 )
-from pounding.stories import (
-    N_STORY_STATE,
-    SS_D,
-    SS_F,
-    SS_FAILED,
-    SS_ZERO_NEG,
-    SS_ZERO_POS,
-    STORY_MODELS,
-)
+from pounding.stories import N_STORY_STATE, SS_FAILED, STORY_MODELS, imk_failure_ahead
 from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB, PoundingSystem
 
 #: Kernel id of the Bouc–Wen story model (its ζ and ε are ODE states here).
@@ -522,26 +514,17 @@ class _Model:
         next increment (a reversal that spends the unloading stiffness: the force drops to zero
         there); and (row, drift z [m], direction) of those whose next zero-force crossing, at z,
         spends a capacity (a terminal event)."""
-        imk = STORY_MODELS["imk"]
+        imk = STORY_MODELS["imk"].kernel_id
         now, ahead = [], []
-        trial = np.zeros(N_STORY_STATE)
-        for e in self.st_pl[self.st_law[self.st_pl] == imk.kernel_id]:
-            s0, p, m = self.st_committed[e], self.stories.params[e], self.st_dir[e]
-            if s0[SS_FAILED] > 0.0:
+        for e in self.st_pl[self.st_law[self.st_pl] == imk]:
+            m = self.st_dir[e]
+            if m == 0.0 and not self.st_committed[e, SS_FAILED]:
+                continue
+            spent, z = imk_failure_ahead(self.st_committed[e], self.stories.params[e], m)
+            if spent:
                 now.append(int(e))
-                continue
-            if m == 0.0:
-                continue
-            tiny = m * 1e-9 * p[1] / p[0]
-            element_eval(FAMILY_STORY, imk.kernel_id, s0[SS_D] + tiny, 0.0, 0.0, s0, trial, p)
-            if trial[SS_FAILED] > 0.0:
-                now.append(int(e))
-                continue
-            z = trial[SS_ZERO_POS if m > 0.0 else SS_ZERO_NEG]
-            if m * s0[SS_F] < 0.0 and m * (z - s0[SS_D]) > 0.0:
-                element_eval(FAMILY_STORY, imk.kernel_id, z + tiny, 0.0, 0.0, s0, trial, p)
-                if trial[SS_FAILED] > 0.0:
-                    ahead.append((int(e), float(z), float(m)))
+            elif math.isfinite(z):
+                ahead.append((int(e), z, float(m)))
         return now, ahead
 
     def failure_events(self, ahead: list[tuple[int, float, float]]) -> list:

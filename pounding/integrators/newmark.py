@@ -67,12 +67,12 @@ from pounding.stories import (
     FAMILY_STORY,
     N_STORY_PARAMS,
     N_STORY_STATE,
-    SS_D,
     SS_DIR,
     SS_E,
     SS_FAILED,
     SS_W,
     STORY_MODELS,
+    imk_failure_ahead,
 )
 from pounding.system import PoundingSystem
 
@@ -303,15 +303,11 @@ def _failed_buildings(
     ``reversal``, also a story whose next reversal spends it (its unloading stiffness gone: the
     force drops from the peak to zero there, which no step of Newton gets past)."""
     st = system.stories
-    imk = STORY_MODELS["imk"]
-    spent = (st.law_id == imk.kernel_id) & (state[:, SS_FAILED] > 0.0)
+    spent = (st.law_id == STORY_MODELS["imk"].kernel_id) & (state[:, SS_FAILED] > 0.0)
     if reversal:
-        trial = np.zeros(state.shape[1])
-        for r in np.flatnonzero((st.law_id == imk.kernel_id) & ~spent):
-            back = -np.sign(state[r, SS_DIR]) * 1e-9 * st.params[r, 1] / st.params[r, 0]
-            if back != 0.0:
-                imk.kernel(state[r, SS_D] + back, 0.0, 0.0, state[r], trial, st.params[r])
-                spent[r] = trial[SS_FAILED] > 0.0
+        for r in np.flatnonzero((st.law_id == STORY_MODELS["imk"].kernel_id) & ~spent):
+            back = -np.sign(state[r, SS_DIR])
+            spent[r] = back != 0.0 and imk_failure_ahead(state[r], st.params[r], back)[0]
     return sorted({int(b) for b in st.building[spent]})
 
 
