@@ -54,7 +54,10 @@ Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) 
     β = (E_i/(E_t − ΣE))^c (``c``): at each zero-force crossing the side about to be loaded loses
     F_y, α_s ← (1 − β_s), F_ref ← (1 − β_c) (the post-cap line moves in), its target drift grows by
     (1 + β_a); at each reversal K_u ← (1 − β_k) K_u (E_i: hysteretic energy since the last
-    crossing, resp. reversal). A spent capacity (β = 1) fails the story: no force from then on.
+    crossing, resp. reversal), but no lower than the line from the reversal to the target (and to
+    the local peak) ahead: a softer unloading line passes inside the target, the reload from its
+    zero-force drift is steeper than the unloading and the loop runs backwards, generating energy. A spent capacity (β = 1) fails the story: no force from
+    then on.
 
 The bilinear update bounds the trial force by the two hardening lines, so it is exact for any
 step (the return map of kinematic hardening; OpenSees ``Steel01`` with a1 = a3 = 0): unloading is
@@ -345,6 +348,19 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
             return 1.0
         return r if c == 1.0 else r**c
 
+    def envelope(y, fy, hard, f_ref):
+        # max(κ F_y0, min(k y, F_y + α k (y − F_y/k), F_ref + k_c y)) and its slope
+        fe, se = k * y, k
+        fh = fy + hard * (y - fy / k)
+        if fh < fe:
+            fe, se = fh, hard
+        fc = f_ref + k_c * y
+        if fc < fe:
+            fe, se = fc, k_c
+        if f_res > fe:
+            fe, se = f_res, 0.0
+        return fe, se
+
     for i in range(N_STORY_STATE):
         s1[i] = s0[i]
     dk = s0[SS_DK]
@@ -376,8 +392,20 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         if g_k > 0.0:
             beta = deterioration(e_now - s0[SS_E_REV], g_k * e_y - e_now)
             failed = beta >= 1.0
-            dk = 1.0 - (1.0 - dk) * (1.0 - beta)
-            ku = k * (1.0 - dk) if not failed else ku
+            if failed:
+                dk = 1.0
+            else:
+                # no softer than the line from here to the target ahead (and to the local peak
+                # before it): softer, the reload would be steeper than the unloading and the loop
+                # would run backwards, generating energy
+                f_t = envelope(
+                    t_a, fy0 * (1.0 - ds_a), k * alpha * (1.0 - ds_a), f_ref0 * (1.0 - dc_a)
+                )[0]
+                k_min = (f_t - g) / (t_a - x0) if t_a > x0 else 0.0
+                if x0 < l_x < t_a and 0.0 < l_f < f_t:
+                    k_min = max(k_min, (l_f - g) / (l_x - x0))
+                ku = max(ku * (1.0 - beta), min(ku, k_min))
+                dk = 1.0 - ku / k
         s1[SS_E_REV] = e_now
         # the other side starts to unload here, below its target: its local peak
         if g < 0.0 and -x0 < max(t_b, dy):
@@ -408,22 +436,9 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     hard = alpha * k * (1.0 - ds_a)
     f_ref = f_ref0 * (1.0 - dc_a)
 
-    def envelope(y):
-        # max(κ F_y0, min(k y, F_y + α k (y − F_y/k), F_ref + k_c y)) and its slope
-        fe, se = k * y, k
-        fh = fy + hard * (y - fy / k)
-        if fh < fe:
-            fe, se = fh, hard
-        fc = f_ref + k_c * y
-        if fc < fe:
-            fe, se = fc, k_c
-        if f_res > fe:
-            fe, se = f_res, 0.0
-        return fe, se
-
     # the reload line from (z', 0) to the target on the current backbone; through the local peak
     # first when the line to it is steeper
-    f_t = envelope(t_a)[0]
+    f_t = envelope(t_a, fy, hard, f_ref)[0]
     z_use = min(z_a, t_a - f_t / k)
     k_line = f_t / (t_a - z_use) if f_t > 0.0 else 0.0
     local = f_t > 0.0 and z_use < l_x < t_a and 0.0 < l_f < f_t and l_f > k_line * (l_x - z_use)
@@ -435,7 +450,7 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         if failed:
             return 0.0, 0.0
         if y >= t_a:
-            return envelope(y)
+            return envelope(y, fy, hard, f_ref)
         if g < 0.0 and y < z_a:
             return g + ku * (y - x0), ku
         if local and y >= l_x:

@@ -185,8 +185,15 @@ class _IMK:
             e_now = max(self.w - f0 * f0 / (2.0 * self.ku), 0.0) if self.ku > 0.0 else 0.0
             if self.gamma["k"] > 0.0 and not self.failed:
                 b = self.beta(e_now - self.ek, e_now, "k")
-                self.dk = 1.0 - (1.0 - self.dk) * (1.0 - b)
                 self.failed = b >= 1.0
+                # K_u no lower than the secants from here to the points the reload aims at
+                t, ft = self.t[m], self.env(self.t[m], m)[0]
+                floor = (ft - f0) / (t - self.d) if m * (t - self.d) > 0.0 else 0.0
+                dl, fl = self.peak[m]
+                if m * self.d < m * dl < m * t and 0.0 < m * fl < m * ft:
+                    floor = max(floor, (fl - f0) / (dl - self.d))
+                ku = max((1.0 - b) * self.ku, min(self.ku, floor))
+                self.dk = 1.0 if self.failed else 1.0 - ku / self.k
             self.ek = e_now
             # side −m starts to unload here, below its target: its local peak
             if m * f0 < 0.0 and -m * (self.d - self.t[-m]) < 0.0:
@@ -489,6 +496,43 @@ def test_reload_after_an_inner_cycle_runs_through_the_local_peak_by_hand():
         assert rows[ends[5], 1] == pytest.approx((1.09 - f_3) * K, rel=1e-12)
         ref, _ = _reference(history, p)
         np.testing.assert_allclose(ref[ends, 0], rows[ends, 0], rtol=1e-12)
+
+
+def test_unloading_stiffness_lost_below_the_secant_to_the_target_unloads_along_it_by_hand():
+    # unloading-stiffness mode only (γ_k = 5, c = 1), α_s = 0.03, cap at 11 δ_y (units F_y0, δ_y,
+    # k = 1). To 3: F = 1.06, W = ½ + ½ (1 + 1.06) 2 = 2.56, E = 1.06²/2: e = 1.9982 dissipated,
+    # β_k = e/(5 − e) = 0.665668, K_u would be 0.334332. The line from (3, 1.06) to the target
+    # (−1, −1) is steeper, 2.06/4 = 0.515: at the lower K_u the zero-force drift (−0.170) would lie
+    # past it and every later cycle would run backwards. K_u = 0.515 instead: the story unloads
+    # straight to (−1, −1) (−0.485 at 0), then follows the backbone (−1.03 at −2).
+    p = _params(plastic=10.0, post_cap=30.0, gammas=(0.0, 0.0, 0.0, 5.0))
+    e = 2.56 - 1.06**2 / 2.0
+    assert 1.0 - e / (5.0 - e) == pytest.approx(0.334332, abs=1e-6)
+    for per_dy in (0, 20):
+        history, ends = piecewise([3.0, 0.0, -1.0, -2.0], DY, per_dy)
+        rows = _drive(history, p)
+        np.testing.assert_allclose(
+            rows[ends, 0], np.array([1.06, -0.485, -1.0, -1.03]) * FY, rtol=1e-12
+        )
+        assert rows[ends[1], 1] == pytest.approx(0.515 * K, rel=1e-12)
+        ref, _ = _reference(history, p)
+        np.testing.assert_allclose(ref[ends, 0], rows[ends, 0], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "gammas", [(0.0, 0.0, 0.0, 12.0), (60.0, 60.0, 0.0, 12.0), (100.0, 100.0, 100.0, 12.0)]
+)
+def test_cycles_past_the_unloading_stiffness_floor_never_generate_energy(gammas):
+    # eight ±4 δ_y cycles with a fast unloading-stiffness deterioration: each cycle's work ∮F dδ
+    # (the exact path work at the cycle ends) is ≥ 0; unbounded, K_u fell to 0.22 k, below the
+    # 0.36 k of the reload lines, and each cycle returned 1.77 F_y δ_y
+    p = _params(plastic=10.0, post_cap=30.0, gammas=gammas)
+    history, ends = piecewise(np.tile([4.0, -4.0], 8), DY, 10)
+    rows = _drive(history, p)
+    work = rows[ends[1::2], 2]
+    assert np.all(np.diff(work) >= -1e-9 * FY * DY)
+    ref, _ = _reference(history, p)
+    np.testing.assert_allclose(ref[:, 0], rows[:, 0], rtol=1e-9, atol=1e-9 * FY)
 
 
 def test_a_spent_strength_capacity_fails_the_story():
