@@ -139,7 +139,10 @@ SS_T_POS, SS_T_NEG, SS_E_REV, SS_W_CROSS, SS_FAILED, SS_WX = 14, 15, 16, 17, 18,
 #: IMK: the local peak of each side (drift [m] and force [N] where its last unloading began below
 #: its target; a force of 0 when there is none).
 SS_LD_POS, SS_LF_POS, SS_LD_NEG, SS_LF_NEG = 20, 21, 22, 23
-N_STORY_STATE = 24
+#: IMK: the drift [m] of the next point ahead where the path may turn, in the direction of the last
+#: increment, and the slope [N/m] of the path up to it: a further increment short of it is straight.
+SS_NEXT, SS_KT = 24, 25
+N_STORY_STATE = 26
 #: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14;
 #: drift parameters in metres).
 N_STORY_PARAMS = 16
@@ -327,17 +330,35 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     within it (the reversal, the zero-force crossing) and its energies are the exact work along the
     piecewise-linear path (``SS_WX``; ``SS_W`` is the ledger's trapezoid per step). The reload
     path runs from the zero-force drift through the local peak (``SS_LD_*``, ``SS_LF_*``) to the
-    target when the line to the local peak is steeper than the line to the target."""
-    k, fy0, alpha, d_p, d_pc, kappa = p[0], p[1], p[2], p[3], p[4], p[5]
-    g_s, g_c, g_a, g_k, c = p[6], p[7], p[8], p[9], p[10]
+    target when the line to the local peak is steeper than the line to the target. An increment
+    that continues the last one short of the next point where the path may turn (``SS_NEXT``) is
+    straight on the slope up to it (``SS_KT``)."""
+    k, fy0 = p[0], p[1]
     dy = fy0 / k
+    d0, f0, w0, wx0 = s0[SS_D], s0[SS_F], s0[SS_W], s0[SS_WX]
+    dx = d - d0
+    for i in range(N_STORY_STATE):
+        s1[i] = s0[i]
+    if dx * s0[SS_DIR] > 0.0 and dx * (d - s0[SS_NEXT]) < 0.0 and s0[SS_FAILED] == 0.0:
+        # on in the same direction, short of the next turn: straight on the last slope
+        kt = s0[SS_KT]
+        f = f0 + kt * dx
+        side, t_side = (1.0, SS_T_POS) if dx > 0.0 else (-1.0, SS_T_NEG)
+        if side * d0 >= max(side * s0[t_side], dy):  # pushing the envelope
+            s1[t_side] = d
+        s1[SS_F] = f
+        s1[SS_D] = d
+        s1[SS_W] = w0 + 0.5 * (f0 + f) * dx
+        s1[SS_WX] = wx0 + 0.5 * (f0 + f) * dx
+        s1[SS_E] = 0.5 * f * f / (k * (1.0 - s0[SS_DK]))
+        return f - k * d, kt - k, 0.0
+    alpha, d_p, d_pc, kappa = p[2], p[3], p[4], p[5]
+    g_s, g_c, g_a, g_k, c = p[6], p[7], p[8], p[9], p[10]
     e_y = fy0 * dy
     f_cap = fy0 + alpha * k * d_p
     k_c = -f_cap / d_pc
     f_ref0 = f_cap - k_c * (dy + d_p)
     f_res = kappa * fy0
-    d0, f0, w0, wx0 = s0[SS_D], s0[SS_F], s0[SS_W], s0[SS_WX]
-    dx = d - d0
 
     def deterioration(e_i, remaining):
         # β = (E_i/(E_t − ΣE))^c, 1 once the capacity is spent
@@ -361,8 +382,6 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
             fe, se = f_res, 0.0
         return fe, se
 
-    for i in range(N_STORY_STATE):
-        s1[i] = s0[i]
     dk = s0[SS_DK]
     failed = s0[SS_FAILED] > 0.0
     ku = k * (1.0 - dk)
@@ -488,6 +507,13 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     if x >= t_a:  # the envelope pushed: no local peak on this side
         t_a = x
         l_x = l_f = 0.0
+    ahead = math.inf
+    for cx in corners:
+        if x < cx < ahead:
+            ahead = cx
+    s1[SS_NEXT] = sgn * ahead
+    # the slope beyond x (at a kink force_at gives the one before it)
+    s1[SS_KT] = force_at(0.5 * (x + ahead) if ahead < math.inf else x + dy)[1]
     f = sgn * gx
     if sgn > 0.0:
         s1[SS_ZERO_POS], s1[SS_DS_POS], s1[SS_DC_POS], s1[SS_T_POS] = z_a, ds_a, dc_a, t_a
