@@ -14,7 +14,8 @@ from scipy.integrate import solve_ivp
 from pounding import PoundingInputError, simulate
 from pounding.case import case_from_dict
 from pounding.ground_motion import sine_pulse
-from pounding.links import LINK_LAWS, maxwell_link_kernel, viscous_link_kernel
+from pounding.links import LINK_LAWS, N_LINK_STATE, maxwell_link_kernel, viscous_link_kernel
+from pounding.simulate import AnalysisOptions, run
 from pounding.structure import RayleighDamping, ShearBuilding
 from pounding.system import LEFT_SIGN, RIGHT_SIGN, Contact, Link, assemble
 
@@ -292,3 +293,45 @@ def test_story_shear_of_linked_undamped_buildings_is_the_story_spring_force():
     scale = float(abs(spring).max())
     assert float(abs(ds.link_force).max()) > 0.05 * scale
     assert float(abs(ds.story_shear - spring).max()) < 1e-6 * scale
+
+
+@pytest.mark.parametrize(
+    ("law", "params"),
+    [("kelvin", {"k": 4.0e7, "c": 5.0e5}), ("viscous", {"c": 2.0e5, "alpha": 0.5}),
+     ("maxwell", {"k": 4.0e7, "c": 5.0e5})],
+)  # fmt: skip
+def test_every_step_of_linked_buildings_ends_in_equilibrium_with_the_link_kernels(law, params):
+    """Average acceleration enforces M a1 + C v1 + K u1 + Bᵀ F1 = −M ι a_g at each step's end.
+    Without contacts or friction the link forces are settled on the linear step by fixed-point
+    passes (no Newton iteration); F1 is found here by driving each link's Python kernel along the
+    reported δ and δ̇, and the residual must be the passes' tolerance."""
+    bl = [
+        ShearBuilding.uniform("A", 3, period=0.3, mass=2.0e5),
+        ShearBuilding.uniform("B", 5, period=0.9, mass=2.0e5),
+    ]
+    system = assemble(bl, [], [Link("A", "B", law, **params)])
+    gm = sine_pulse(amplitude=0.3 * 9.80665, period=0.6, duration=2.0, dt=0.002)
+    dt = 1e-3
+    raw, _ = run(system, gm, AnalysisOptions(method="newmark", dt=dt, output_dt=dt, duration=2.0))
+    u, v, a = raw.displacement, raw.velocity, raw.acceleration
+    lk = system.links
+    B = np.zeros((system.n_dof, len(lk)))
+    for r in range(len(lk)):
+        for c in range(2):
+            if lk.dof[r, c] >= 0:
+                B[lk.dof[r, c], r] = lk.sign[r, c]
+    d, dd = u @ B, v @ B
+    kernel = LINK_LAWS[law].kernel
+    force = np.zeros_like(d)
+    for r in range(len(lk)):
+        s0, s1 = np.zeros(N_LINK_STATE), np.zeros(N_LINK_STATE)
+        for j in range(1, d.shape[0]):
+            force[j, r] = kernel(d[j, r], dd[j, r], dt, s0, s1, lk.params[r])[0]
+            s0[:] = s1
+    scale = np.abs(force).max()
+    assert scale > 1e5
+    np.testing.assert_allclose(raw.link_force, force, rtol=0, atol=1e-7 * scale)
+    M, C, K, iota = system.mass, system.damping, system.stiffness, system.influence
+    residual = (a + np.outer(raw.ground_acceleration, iota)) @ M + v @ C + u @ K + force @ B.T
+    assert np.abs(residual).max() <= 1e-5 * scale
+    assert raw.info["n_newton_iterations"] == 0

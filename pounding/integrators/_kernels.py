@@ -250,10 +250,8 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     linear = el.kind.size == 0
     for k in range(n_fr):
         linear = linear and fr.kind[k] == FRICTION_COULOMB
-    # yielding stories alone: the linear step, their forces settled on its factors
+    # element families without friction: the linear step, their forces settled on its factors
     stories = el.kind.size > 0 and n_fr == 0
-    for e in range(el.kind.size):
-        stories = stories and el.kind[e] == FAMILY_STORY
     condensable = n_fr == 0 and el.kind.size == 0
     g_start = ground_at(md.ag, md.ag_dt, t)
     if not in_contact and hs == h and (linear or stories):
