@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -404,99 +404,135 @@ def result_variables(
 ) -> ResultVariables:
     """Turn a :class:`RawResult` into the schema's variables, CF attributes on each."""
     bl = system.buildings
-    nb = len(bl)
     width = max(b.n_floors for b in bl)
     slices = [slice(o, o + b.n_floors) for b, o in zip(bl, system.dof_offset, strict=True)]
-    nt = raw.time.size
 
     def per_building(arr: np.ndarray) -> np.ndarray:
         return _padded([arr[..., s] for s in slices], width, arr.shape[:-1])
 
-    u = per_building(raw.displacement)
     drift = per_building(system.drift(raw.displacement))
+    peak_drift = per_building(raw.peak_drift)
     heights = _padded([b.heights for b in bl], width)
-    a_abs = per_building(raw.acceleration + raw.ground_acceleration[:, None] * system.influence)
-
-    el = system.elements
-    n_el = len(el)
     shear = per_building(_floor_shears(system, raw, slices))
-    modes = [b.modal() for b in bl]
-    # scaled to 1 at the roof (at the top-most moving floor for a mode that leaves the roof still)
-    shapes = [
-        m.shapes / m.shapes[reference_floors(m.shapes), np.arange(m.shapes.shape[1])] for m in modes
-    ]
-    mode_shape = np.full((nb, width, width), np.nan)
-    for i, s in enumerate(shapes):
-        mode_shape[i, : s.shape[0], : s.shape[1]] = s
-    group = [system.contacts[g] for g in el.group]
     d: dict[str, tuple] = {
         **_isolation_variables(system, raw),
         **_foundation_variables(system, raw),
         **_column_variables(system, raw),
         **_link_variables(system, raw),
-        **_story_variables(system, raw, drift, per_building(raw.peak_drift)),
+        **_story_variables(system, raw, drift, peak_drift),
+        **_response_variables(system, raw, per_building, drift, peak_drift, heights, shear),
+        **_model_variables(system, width),
+        **_impact_variables(raw.impacts),
     }
-    d.update(
-        {
-            "displacement": (("time", "building", "floor"), u),
-            "velocity": (("time", "building", "floor"), per_building(raw.velocity)),
-            "absolute_acceleration": (("time", "building", "floor"), a_abs),
-            "drift": (("time", "building", "story"), drift),
-            "drift_ratio": (("time", "building", "story"), drift / heights),
-            "story_shear": (("time", "building", "story"), shear),
-            "base_shear": (("time", "building"), shear[:, :, 0]),
-            "collapse_time": (
-                ("building",),
-                _collapse_times(
-                    raw,
-                    drift / heights,
-                    per_building(raw.peak_drift) / heights,
-                    np.array([b.can_collapse for b in bl]),
-                ),
+    coords = _result_coords(system, raw, width, heights)
+    variables = {}
+    for name, spec in (*d.items(), *coords.items()):
+        dims, values = spec if isinstance(spec, tuple) else ((name,), spec)
+        variables[name] = (dims, np.asarray(values), dict(ATTRS.get(name, {})))
+    return ResultVariables(variables, list(coords), _result_attrs(ground, raw, provenance))
+
+
+def _response_variables(
+    system: PoundingSystem,
+    raw: RawResult,
+    per_building: Callable[[np.ndarray], np.ndarray],
+    drift: np.ndarray,
+    peak_drift: np.ndarray,
+    heights: np.ndarray,
+    shear: np.ndarray,
+) -> dict[str, tuple]:
+    """The response histories and their peaks: floors, stories, contacts, energy and collapse."""
+    nt = raw.time.size
+    n_el = len(system.elements)
+    u = per_building(raw.displacement)
+    a_abs = per_building(raw.acceleration + raw.ground_acceleration[:, None] * system.influence)
+    return {
+        "displacement": (("time", "building", "floor"), u),
+        "velocity": (("time", "building", "floor"), per_building(raw.velocity)),
+        "absolute_acceleration": (("time", "building", "floor"), a_abs),
+        "drift": (("time", "building", "story"), drift),
+        "drift_ratio": (("time", "building", "story"), drift / heights),
+        "story_shear": (("time", "building", "story"), shear),
+        "base_shear": (("time", "building"), shear[:, :, 0]),
+        "collapse_time": (
+            ("building",),
+            _collapse_times(
+                raw,
+                drift / heights,
+                peak_drift / heights,
+                np.array([b.can_collapse for b in system.buildings]),
             ),
-            "residual_drift": (("building", "story"), drift[-1]),
-            "residual_drift_ratio": (("building", "story"), drift[-1] / heights),
-            "penetration": (("time", "contact"), raw.penetration.reshape(nt, n_el)),
-            "contact_force": (("time", "contact"), raw.contact_force.reshape(nt, n_el)),
-            "ground_acceleration": (("time",), raw.ground_acceleration),
-            "energy": (("time", "term"), raw.energy),
-            "peak_displacement": (("building", "floor"), per_building(raw.peak_displacement)),
-            "peak_drift_ratio": (("building", "story"), per_building(raw.peak_drift) / heights),
-            "peak_absolute_acceleration": (
-                ("building", "floor"),
-                per_building(raw.peak_absolute_acceleration),
-            ),
-            "peak_story_shear": (("building", "story"), _abs_max(shear)),
-            "peak_base_shear": (("building",), _abs_max(shear[:, :, 0])),
-            "peak_contact_force": (("contact",), raw.peak_contact_force),
-            "peak_penetration": (("contact",), raw.peak_penetration),
-            "impact_count": (
-                ("contact",),
-                np.bincount(raw.impacts["element"], minlength=n_el).astype(np.int64)[:n_el],
-            ),
-            "floor_mass": (("building", "floor"), _padded([b.masses for b in bl], width)),
-            "story_stiffness": (("building", "story"), _padded([b.stiffnesses for b in bl], width)),
-            "natural_period": (("building", "mode"), _padded([m.periods for m in modes], width)),
-            "effective_modal_mass": (
-                ("building", "mode"),
-                _padded([m.effective_masses for m in modes], width),
-            ),
-            "mode_shape": (("building", "floor", "mode"), mode_shape),
-        }
-    )
-    imp = raw.impacts
+        ),
+        "residual_drift": (("building", "story"), drift[-1]),
+        "residual_drift_ratio": (("building", "story"), drift[-1] / heights),
+        "penetration": (("time", "contact"), raw.penetration.reshape(nt, n_el)),
+        "contact_force": (("time", "contact"), raw.contact_force.reshape(nt, n_el)),
+        "ground_acceleration": (("time",), raw.ground_acceleration),
+        "energy": (("time", "term"), raw.energy),
+        "peak_displacement": (("building", "floor"), per_building(raw.peak_displacement)),
+        "peak_drift_ratio": (("building", "story"), peak_drift / heights),
+        "peak_absolute_acceleration": (
+            ("building", "floor"),
+            per_building(raw.peak_absolute_acceleration),
+        ),
+        "peak_story_shear": (("building", "story"), _abs_max(shear)),
+        "peak_base_shear": (("building",), _abs_max(shear[:, :, 0])),
+        "peak_contact_force": (("contact",), raw.peak_contact_force),
+        "peak_penetration": (("contact",), raw.peak_penetration),
+        "impact_count": (
+            ("contact",),
+            np.bincount(raw.impacts["element"], minlength=n_el).astype(np.int64)[:n_el],
+        ),
+    }
+
+
+def _model_variables(system: PoundingSystem, width: int) -> dict[str, tuple]:
+    """The buildings' masses, stiffnesses, periods, modal masses and mode shapes."""
+    bl = system.buildings
+    modes = [b.modal() for b in bl]
+    # scaled to 1 at the roof (at the top-most moving floor for a mode that leaves the roof still)
+    shapes = [
+        m.shapes / m.shapes[reference_floors(m.shapes), np.arange(m.shapes.shape[1])] for m in modes
+    ]
+    mode_shape = np.full((len(bl), width, width), np.nan)
+    for i, s in enumerate(shapes):
+        mode_shape[i, : s.shape[0], : s.shape[1]] = s
+    return {
+        "floor_mass": (("building", "floor"), _padded([b.masses for b in bl], width)),
+        "story_stiffness": (("building", "story"), _padded([b.stiffnesses for b in bl], width)),
+        "natural_period": (("building", "mode"), _padded([m.periods for m in modes], width)),
+        "effective_modal_mass": (
+            ("building", "mode"),
+            _padded([m.effective_masses for m in modes], width),
+        ),
+        "mode_shape": (("building", "floor", "mode"), mode_shape),
+    }
+
+
+def _impact_variables(imp: Mapping[str, np.ndarray]) -> dict[str, tuple]:
+    """The per-impact table: times, speeds, peaks, impulse, contact (and the path when kept)."""
+    out: dict[str, tuple] = {}
     for name in ("start", "end", "v0", "v_end", "peak_force", "max_penetration", "impulse"):
-        d[f"impact_{name}"] = (("impact",), np.asarray(imp[name], dtype=float))
-    d["impact_contact"] = (("impact",), np.asarray(imp["element"], dtype=np.int64))
+        out[f"impact_{name}"] = (("impact",), np.asarray(imp[name], dtype=float))
+    out["impact_contact"] = (("impact",), np.asarray(imp["element"], dtype=np.int64))
     if "path_force" in imp:
         for name in ("path_penetration", "path_force"):
-            d[f"impact_{name}"] = (("impact", "impact_point"), np.asarray(imp[name], dtype=float))
-    coords = {
+            out[f"impact_{name}"] = (("impact", "impact_point"), np.asarray(imp[name], dtype=float))
+    return out
+
+
+def _result_coords(
+    system: PoundingSystem, raw: RawResult, width: int, heights: np.ndarray
+) -> dict[str, Any]:
+    """The coordinates: dimension axes, then the floors', contacts' and bases' labels."""
+    bl = system.buildings
+    imp = raw.impacts
+    return {
         "time": raw.time,
         "building": list(system.building_names),
         "floor": np.arange(1, width + 1),
         "story": np.arange(1, width + 1),
-        "contact": np.arange(n_el),
+        "contact": np.arange(len(system.elements)),
         "term": list(ENERGY_TERMS),
         "mode": np.arange(1, width + 1),
         "impact": np.arange(len(imp["element"])),
@@ -504,6 +540,23 @@ def result_variables(
         **_column_coords(system),
         "floor_elevation": (("building", "floor"), _padded([b.elevations for b in bl], width)),
         "story_height": (("building", "story"), heights),
+        **_contact_coords(system),
+        "base_type": (
+            ("building",),
+            np.array([b.base.type if b.base is not None else "fixed" for b in bl], dtype=str),
+        ),
+        "friction_law": (
+            ("building",),
+            np.array([b.base.friction if b.base is not None else "none" for b in bl], dtype=str),
+        ),
+    }
+
+
+def _contact_coords(system: PoundingSystem) -> dict[str, tuple]:
+    """Per gap element: its ends, gap, law and the law's parameters."""
+    el = system.elements
+    group = [system.contacts[g] for g in el.group]
+    return {
         "contact_left": (("contact",), np.array(el.left, dtype=object).astype(str)),
         "contact_right": (("contact",), np.array(el.right, dtype=object).astype(str)),
         "contact_left_floor": (("contact",), el.left_floor),
@@ -534,19 +587,13 @@ def result_variables(
             np.array([np.nan if c.delta_m is None else float(c.delta_m) for c in group]),
         ),
         "contact_calibration": (("contact",), np.array([c.calibration for c in group], dtype=str)),
-        "base_type": (
-            ("building",),
-            np.array([b.base.type if b.base is not None else "fixed" for b in bl], dtype=str),
-        ),
-        "friction_law": (
-            ("building",),
-            np.array([b.base.friction if b.base is not None else "none" for b in bl], dtype=str),
-        ),
     }
-    variables = {}
-    for name, spec in (*d.items(), *coords.items()):
-        dims, values = spec if isinstance(spec, tuple) else ((name,), spec)
-        variables[name] = (dims, np.asarray(values), dict(ATTRS.get(name, {})))
+
+
+def _result_attrs(
+    ground: GroundMotion, raw: RawResult, provenance: dict[str, Any] | None
+) -> dict[str, Any]:
+    """The global attributes: energy balance, record, conventions and the run's provenance."""
     attrs: dict[str, Any] = {
         "energy_balance_error": energy_balance_error(raw.energy),
         "record": ground.name,
@@ -560,7 +607,7 @@ def result_variables(
     }
     for key, value in (provenance or {}).items():
         attrs[key] = _attr_value(value)
-    return ResultVariables(variables, list(coords), attrs)
+    return attrs
 
 
 def with_baseline(result: ResultVariables, baseline: ResultVariables) -> ResultVariables:

@@ -476,6 +476,148 @@ def _crossing(levels: np.ndarray, drift: np.ndarray, hit: np.ndarray, limit: flo
     return l0 + (limit - d0) / (float(d[j]) - d0) * (float(lv[j]) - l0)
 
 
+#: The fragility Dataset's ``method`` attribute: how each method fits.
+_METHOD_NOTES = {
+    "stripes": "binomial maximum likelihood over the stripes (Baker 2015)",
+    "ida": "IDA capacities, truncated-IDA likelihood beyond the highest level (Baker 2015)",
+}
+
+
+def _study_axes(ds, method: str | None) -> tuple[bool, str, str]:
+    """(hunt, step, method): whether ``ds`` is a hunt-and-fill IDA, its run axis, the fit method."""
+    hunt = "ida_run" in ds.dims
+    step = "ida_run" if hunt else "im_level"
+    if step not in ds.dims or "record" not in ds.dims:
+        raise PoundingInputError(
+            "fragility() needs a study Dataset with im_level and record axes (study.im, "
+            "study.im_level: records scaled to target intensities) or a hunt-and-fill IDA"
+        )
+    if method is None:
+        method = "ida" if hunt else "stripes"
+    if method not in ("stripes", "ida"):
+        raise PoundingInputError(f"method = {method!r}; allowed: stripes, ida")
+    if hunt and method == "stripes":
+        raise PoundingInputError(
+            "method = 'stripes': a hunt-and-fill IDA has no common levels to count collapses "
+            "at; allowed: ida"
+        )
+    return hunt, step, method
+
+
+def _record_capacities(
+    runs: np.ndarray,
+    lv: np.ndarray,
+    limit: str | float,
+    drift: np.ndarray | None,
+    top_level: float,
+) -> tuple[np.ndarray, float | np.ndarray]:
+    """(capacity, top): each record's capacity (inf: never reached) and its censoring level."""
+    # the capacity is the lowest level reaching the limit state; a hunt-and-fill IDA (``drift``
+    # given) interpolates a drift limit on the record's IDA curve, and censors each record at
+    # the highest level it ran
+    cap = np.full(runs.shape[1], np.inf)
+    for r in range(runs.shape[1]):
+        reached = runs[:, r] == 1.0
+        if reached.any():
+            cap[r] = float(np.min(lv[reached, r]))
+        if drift is not None and limit not in (COLLAPSE, POUNDING) and reached.any():
+            cap[r] = _crossing(lv[:, r], drift[:, r], runs[:, r], float(limit))
+    if drift is None:
+        return cap, top_level
+    return cap, np.max(np.where(np.isfinite(runs), lv, -np.inf), axis=0)
+
+
+def _fit_cell(
+    stripes: tuple[np.ndarray, np.ndarray, np.ndarray] | None,
+    cap: np.ndarray | None,
+    top: float | np.ndarray,
+    n_boot: int,
+    level: float,
+) -> tuple[Fragility | None, str]:
+    """(fit, note): the stripes' (or else the capacities') fit, None if it failed, and why."""
+    try:
+        fit = fit_stripes(*stripes) if stripes is not None else fit_ida(cap, censored_above=top)
+    except PoundingInputError as exc:
+        return None, str(exc)
+    if n_boot:
+        try:  # a failed bootstrap keeps the fit, without intervals
+            if stripes is not None:
+                fit = bootstrap(fit, stripes=stripes, n_boot=n_boot, level=level)
+            else:
+                fit = bootstrap(fit, cap, censored_above=top, n_boot=n_boot, level=level)
+        except PoundingInputError as exc:
+            return fit, str(exc)
+    return fit, ""
+
+
+def _interval_variables(
+    dims: tuple[str, ...],
+    level: float,
+    band: tuple[np.ndarray, np.ndarray],
+    median_ci: tuple[np.ndarray, np.ndarray],
+    beta_ci: tuple[np.ndarray, np.ndarray],
+) -> dict[str, tuple]:
+    """The bootstrap intervals' Dataset variables (curve band, median and β), by name."""
+    out: dict[str, tuple] = {}
+    for name, values, side in (("low", band[0], "lower"), ("high", band[1], "upper")):
+        out[f"probability_{name}"] = (
+            (*dims, "im"),
+            values,
+            {"units": "1", "long_name": f"probability, pointwise {level:.0%} band, {side}"},
+        )
+    out["fragility_median_low"] = (
+        dims,
+        median_ci[0],
+        {"units": "g", "long_name": f"median, {level:.0%} low"},
+    )
+    out["fragility_median_high"] = (
+        dims,
+        median_ci[1],
+        {"units": "g", "long_name": f"median, {level:.0%} high"},
+    )
+    out["fragility_beta_low"] = (
+        dims,
+        beta_ci[0],
+        {"units": "1", "long_name": f"β, {level:.0%} low"},
+    )
+    out["fragility_beta_high"] = (
+        dims,
+        beta_ci[1],
+        {"units": "1", "long_name": f"β, {level:.0%} high"},
+    )
+    return out
+
+
+def _pounding_variables(ds, out, others: Sequence[str], hunt: bool) -> dict:
+    """The pounding DataArrays the study allows (probability per level, median ratio), by name."""
+    found = {}
+    if not hunt and "impact_count" in ds and "contact" in ds["impact_count"].dims:
+        ok = ds["run_status"] == "ok"
+        pounds = (ds["impact_count"].sum("contact") > 0).astype(float).where(ok)
+        found["pounding_probability"] = (
+            pounds.mean("record")
+            .transpose(*others, "im_level")
+            .assign_attrs(units="1", long_name="fraction of the records with at least one impact")
+        )
+    if "law" in others and "none" in [str(v) for v in ds["law"].values]:
+        ratio = out["fragility_median"] / out["fragility_median"].sel(law="none")
+        found["pounding_median_ratio"] = ratio.assign_attrs(
+            units="1",
+            long_name="median capacity with contact / without (below 1: pounding lowers it)",
+        )
+    return found
+
+
+def _reached(
+    ds, limit: str | float, building: str | None, hunt: bool, order: Sequence[str]
+) -> np.ndarray:
+    """Per run, 1.0 if it reached ``limit``, else 0.0 (NaN: failed), as an array on ``order``."""
+    hit = _exceeded(ds, limit, building)
+    if hunt:  # the hunt counted a failed run as reaching its limit state (V&C): so here
+        hit = hit.where(ds["run_status"] != "failed", 1.0)
+    return hit.transpose(*order).values
+
+
 def study_fragility(
     ds,
     limit_state: str | float | Sequence[str | float] = COLLAPSE,
@@ -503,22 +645,7 @@ def study_fragility(
     pounding lowers the capacity)."""
     import xarray as xr
 
-    hunt = "ida_run" in ds.dims
-    step = "ida_run" if hunt else "im_level"
-    if step not in ds.dims or "record" not in ds.dims:
-        raise PoundingInputError(
-            "fragility() needs a study Dataset with im_level and record axes (study.im, "
-            "study.im_level: records scaled to target intensities) or a hunt-and-fill IDA"
-        )
-    if method is None:
-        method = "ida" if hunt else "stripes"
-    if method not in ("stripes", "ida"):
-        raise PoundingInputError(f"method = {method!r}; allowed: stripes, ida")
-    if hunt and method == "stripes":
-        raise PoundingInputError(
-            "method = 'stripes': a hunt-and-fill IDA has no common levels to count collapses "
-            "at; allowed: ida"
-        )
+    hunt, step, method = _study_axes(ds, method)
     limits = [limit_state] if isinstance(limit_state, str | int | float) else list(limit_state)
     others = [d for d in ds["run_status"].dims if d not in ("record", step)]
     if hunt:
@@ -541,50 +668,26 @@ def study_fragility(
     if hunt:
         drift = _drift(ds, building).transpose(*others, step, "record").values
     for i, limit in enumerate(limits):
-        hit = _exceeded(ds, limit, building)
-        if hunt:  # the hunt counted a failed run as reaching its limit state (V&C): so here
-            hit = hit.where(ds["run_status"] != "failed", 1.0)
-        hit = hit.transpose(*others, step, "record")
+        hit = _reached(ds, limit, building, hunt, (*others, step, "record"))
         for index in np.ndindex(*shape[1:]):
-            runs = hit.values[index]  # (level or run, record)
+            runs = hit[index]  # (level or run, record)
             lv = run_levels[index] if hunt else np.broadcast_to(levels[:, None], runs.shape)
             n = np.sum(np.isfinite(runs), axis=1)
             z = np.nansum(runs, axis=1)
             if not hunt:
                 with np.errstate(invalid="ignore"):
                     fraction[(i, *index)] = np.where(n > 0, z / np.maximum(n, 1), np.nan)
-            # each record's capacity (lowest level reaching the limit state) and the highest
-            # level it was analysed at (where a record that never reached it is censored)
-            cap = np.full(runs.shape[1], np.inf)
-            top: float | np.ndarray = top_level
+            cap, top = None, top_level
             if method == "ida":
-                for r in range(runs.shape[1]):
-                    reached = runs[:, r] == 1.0
-                    if reached.any():
-                        cap[r] = float(np.min(lv[reached, r]))
-                    if hunt and limit not in (COLLAPSE, POUNDING) and reached.any():
-                        cap[r] = _crossing(lv[:, r], drift[index][:, r], runs[:, r], float(limit))
-                if hunt:
-                    top = np.max(np.where(np.isfinite(runs), lv, -np.inf), axis=0)
+                cap, top = _record_capacities(
+                    runs, lv, limit, drift[index] if hunt else None, top_level
+                )
                 capacities[(i, *index)] = np.where(np.isfinite(cap), cap, np.nan)
-            try:
-                use = n > 0
-                if method == "stripes":
-                    fit = fit_stripes(levels[use], n[use], z[use])
-                else:
-                    fit = fit_ida(cap, censored_above=top)
-            except PoundingInputError as exc:
-                notes[(i, *index)] = str(exc)
+            use = n > 0
+            stripes = (levels[use], n[use], z[use]) if method == "stripes" else None
+            fit, notes[(i, *index)] = _fit_cell(stripes, cap, top, n_boot, level)
+            if fit is None:
                 continue
-            if n_boot:
-                try:
-                    if method == "stripes":
-                        stripes = (levels[use], n[use], z[use])
-                        fit = bootstrap(fit, stripes=stripes, n_boot=n_boot, level=level)
-                    else:
-                        fit = bootstrap(fit, cap, censored_above=top, n_boot=n_boot, level=level)
-                except PoundingInputError as exc:
-                    notes[(i, *index)] = str(exc)
             med[(i, *index)], beta[(i, *index)] = fit.median, fit.beta
             curve[(i, *index)] = fit.probability(grid)
             if fit.median_ci is not None:
@@ -629,46 +732,10 @@ def study_fragility(
         )
         out = out.assign_coords(im_level=ds["im_level"])
     if n_boot:
-        for name, values, side in (("low", band_lo, "lower"), ("high", band_hi, "upper")):
-            out[f"probability_{name}"] = (
-                (*dims, "im"),
-                values,
-                {"units": "1", "long_name": f"probability, pointwise {level:.0%} band, {side}"},
-            )
-        out["fragility_median_low"] = (
-            dims,
-            lo,
-            {"units": "g", "long_name": f"median, {level:.0%} low"},
-        )
-        out["fragility_median_high"] = (
-            dims,
-            hi,
-            {"units": "g", "long_name": f"median, {level:.0%} high"},
-        )
-        out["fragility_beta_low"] = (dims, b_lo, {"units": "1", "long_name": f"β, {level:.0%} low"})
-        out["fragility_beta_high"] = (
-            dims,
-            b_hi,
-            {"units": "1", "long_name": f"β, {level:.0%} high"},
-        )
-    if not hunt and "impact_count" in ds and "contact" in ds["impact_count"].dims:
-        ok = ds["run_status"] == "ok"
-        pounds = (ds["impact_count"].sum("contact") > 0).astype(float).where(ok)
-        out["pounding_probability"] = pounds.mean("record").transpose(*others, "im_level")
-        out["pounding_probability"].attrs = {
-            "units": "1",
-            "long_name": "fraction of the records with at least one impact",
-        }
-    if "law" in others and "none" in [str(v) for v in ds["law"].values]:
-        ratio = out["fragility_median"] / out["fragility_median"].sel(law="none")
-        out["pounding_median_ratio"] = ratio.assign_attrs(
-            units="1",
-            long_name="median capacity with contact / without (below 1: pounding lowers it)",
-        )
+        out.update(_interval_variables(dims, level, (band_lo, band_hi), (lo, hi), (b_lo, b_hi)))
+    out.update(_pounding_variables(ds, out, others, hunt))
     out.attrs.update(
-        method="binomial maximum likelihood over the stripes (Baker 2015)"
-        if method == "stripes"
-        else "IDA capacities, truncated-IDA likelihood beyond the highest level (Baker 2015)",
+        method=_METHOD_NOTES[method],
         building=building or "any",
         intensity_measure=ds.attrs.get("intensity_measure", ""),
         im_label=im_label,

@@ -723,51 +723,12 @@ def assemble(
     a friction element (module docstring).
     """
     buildings = tuple(buildings)
-    if not buildings:
-        raise PoundingInputError("a system needs at least one building")
-    names = [b.name for b in buildings]
-    dupes = {n for n in names if names.count(n) > 1}
-    if dupes:
-        raise PoundingInputError(
-            f"building names must be unique; repeated: {', '.join(sorted(dupes))}"
-        )
-    if WALL in names:
-        raise PoundingInputError(f"{WALL!r} is reserved for rigid walls and cannot name a building")
-    index = {n: i for i, n in enumerate(names)}
+    index = _building_index(buildings)
     # the contacts' floor pairs first: a slab striking a column adds a node to the struck building
     nodes: list[list[dict[str, Any]]] = [[] for _ in buildings]
-    expanded = []
-    for g, contact in enumerate(contacts):
-        # contact[g], as in the case file's [[contact]] list (and the caller's contacts sequence)
-        where = f"contact[{g}] {contact.left!r}-{contact.right!r}"
-        for side in (contact.left, contact.right):
-            if side != WALL and side not in index:
-                key = "left" if side == contact.left else "right"
-                raise PoundingInputError(
-                    f"{where}: {key} = {side!r}: unknown building {side!r}; allowed: "
-                    f"{', '.join(names)} or {WALL!r}"
-                )
-        li = index.get(contact.left)
-        ri = index.get(contact.right)
-        if li is not None and ri is not None and ri != li + 1:
-            raise PoundingInputError(
-                f"{where}: contacts join neighbours in the row (buildings are listed left to right: "
-                f"{', '.join(names)}); {contact.left!r} is not immediately left of {contact.right!r}"
-            )
-        lb = buildings[li] if li is not None else None
-        rb = buildings[ri] if ri is not None else None
-        if contact.floors == ELEVATION:
-            pairs = []
-            for fl, fr, side, xi in _elevation_pairs(contact, lb, rb, where):
-                struck = li if side == "left" else ri
-                q = -1
-                if side is not None:
-                    story = fl if side == "left" else fr
-                    q = _column_node(nodes[struck], buildings[struck], story, xi, contact, g, where)
-                pairs.append((fl, fr, side, q))
-        else:
-            pairs = [(fl, fr, None, -1) for fl, fr in _floor_pairs(contact, lb, rb, where)]
-        expanded.append((li, ri, lb, rb, pairs))
+    expanded = [
+        _contact_pairs(g, contact, buildings, index, nodes) for g, contact in enumerate(contacts)
+    ]
     # each building: [base slab if isolated | sway, rocking on soil] + floors + column nodes;
     # offsets = dof of floor 1
     extra = [(1 if b.isolated else 0) + (2 if b.flexible_base else 0) for b in buildings]
@@ -784,6 +745,101 @@ def assemble(
         dtype=np.int64,
     ).reshape(len(buildings), 2)
     offsets = starts + np.array(extra, dtype=np.int64)
+    elements = _gap_elements(contacts, expanded, offsets, nodes)
+    below, tilt, tilt_height, influence, heights = _dof_topology(buildings, starts, offsets, nodes)
+    blocks = [building_matrices(b, q) for b, q in zip(buildings, nodes, strict=True)]
+    return PoundingSystem(
+        buildings=buildings,
+        contacts=tuple(contacts),
+        elements=elements,
+        mass=_block_diag([m for m, _, _ in blocks]),
+        damping=_block_diag([c for _, c, _ in blocks]),
+        stiffness=_block_diag([k for _, _, k in blocks]),
+        influence=influence,
+        dof_offset=offsets,
+        below=below,
+        story_height=heights,
+        base_dof=base_dof,
+        friction=_friction_elements(buildings, base_dof),
+        links=_link_elements(links, buildings, index, offsets),
+        link_specs=tuple(links),
+        stories=_story_elements(buildings, offsets, below),
+        soil_dof=soil_dof,
+        tilt=tilt,
+        tilt_height=tilt_height,
+        columns=_column_nodes(buildings, nodes, offsets),
+    )
+
+
+def _building_index(buildings: tuple[ShearBuilding, ...]) -> dict[str, int]:
+    """Position of each building in the row by name, after checking the names."""
+    if not buildings:
+        raise PoundingInputError("a system needs at least one building")
+    names = [b.name for b in buildings]
+    dupes = {n for n in names if names.count(n) > 1}
+    if dupes:
+        raise PoundingInputError(
+            f"building names must be unique; repeated: {', '.join(sorted(dupes))}"
+        )
+    if WALL in names:
+        raise PoundingInputError(f"{WALL!r} is reserved for rigid walls and cannot name a building")
+    return {n: i for i, n in enumerate(names)}
+
+
+def _contact_pairs(
+    g: int,
+    contact: Contact,
+    buildings: tuple[ShearBuilding, ...],
+    index: dict[str, int],
+    nodes: list[list[dict[str, Any]]],
+) -> tuple:
+    """(left index, right index, left building, right building, [(floor l, floor r, struck side,
+    column node)]) of contact ``g``; a slab striking a column adds its node to ``nodes``."""
+    # contact[g], as in the case file's [[contact]] list (and the caller's contacts sequence)
+    where = f"contact[{g}] {contact.left!r}-{contact.right!r}"
+    names = [b.name for b in buildings]
+    for side in (contact.left, contact.right):
+        if side != WALL and side not in index:
+            key = "left" if side == contact.left else "right"
+            raise PoundingInputError(
+                f"{where}: {key} = {side!r}: unknown building {side!r}; allowed: "
+                f"{', '.join(names)} or {WALL!r}"
+            )
+    li = index.get(contact.left)
+    ri = index.get(contact.right)
+    if li is not None and ri is not None and ri != li + 1:
+        raise PoundingInputError(
+            f"{where}: contacts join neighbours in the row (buildings are listed left to right: "
+            f"{', '.join(names)}); {contact.left!r} is not immediately left of {contact.right!r}"
+        )
+    lb = buildings[li] if li is not None else None
+    rb = buildings[ri] if ri is not None else None
+    if contact.floors != ELEVATION:
+        return (
+            li,
+            ri,
+            lb,
+            rb,
+            [(fl, fr, None, -1) for fl, fr in _floor_pairs(contact, lb, rb, where)],
+        )
+    pairs = []
+    for fl, fr, side, xi in _elevation_pairs(contact, lb, rb, where):
+        struck = li if side == "left" else ri
+        q = -1
+        if side is not None:
+            story = fl if side == "left" else fr
+            q = _column_node(nodes[struck], buildings[struck], story, xi, contact, g, where)
+        pairs.append((fl, fr, side, q))
+    return li, ri, lb, rb, pairs
+
+
+def _gap_elements(
+    contacts: Sequence[Contact],
+    expanded: list[tuple],
+    offsets: np.ndarray,
+    nodes: list[list[dict[str, Any]]],
+) -> GapElements:
+    """One gap element per floor pair of every contact, its law's parameters for the pair's m̄."""
     # global column index of each building's first node
     first_node = np.concatenate(([0], np.cumsum([len(q) for q in nodes])[:-1])).astype(np.int64)
 
@@ -838,9 +894,8 @@ def assemble(
                     columns=(col_a, col_b),
                 )
             )
-
     n_el = len(rows)
-    elements = GapElements(
+    return GapElements(
         el_dof=np.array([r["dof"] for r in rows], dtype=np.int64).reshape(n_el, 2),
         el_sign=np.array([r["sign"] for r in rows], dtype=float).reshape(n_el, 2),
         el_gap=np.array([r["gap"] for r in rows], dtype=float),
@@ -856,6 +911,16 @@ def assemble(
         left_column=np.array([r["columns"][0] for r in rows], dtype=np.int64),
         right_column=np.array([r["columns"][1] for r in rows], dtype=np.int64),
     )
+
+
+def _dof_topology(
+    buildings: tuple[ShearBuilding, ...],
+    starts: np.ndarray,
+    offsets: np.ndarray,
+    nodes: list[list[dict[str, Any]]],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Per dof of the system: the dof below, the rocking dof that tilts it and the height it tilts
+    with, the influence of the ground acceleration and the story height (0: not a story)."""
     # dof below each dof: the floor below, the base slab (or the sway dof) under floor 1, -1 (the
     # ground) for a base slab, a foundation's dofs and floor 1 of a fixed-base building; a rocking
     # foundation tilts each of its stories by h_i θ. A column node sits on its story's lower floor
@@ -882,28 +947,12 @@ def assemble(
         )
         # a node's "story" is not checked for collapse (height 0): its segments are in the story's
         heights.append(np.concatenate((np.zeros(lead), b.heights, np.zeros(len(q)))))
-    blocks = [building_matrices(b, q) for b, q in zip(buildings, nodes, strict=True)]
-    below_all = np.concatenate(below).astype(np.int64)
-    return PoundingSystem(
-        buildings=buildings,
-        contacts=tuple(contacts),
-        elements=elements,
-        mass=_block_diag([m for m, _, _ in blocks]),
-        damping=_block_diag([c for _, c, _ in blocks]),
-        stiffness=_block_diag([k for _, _, k in blocks]),
-        influence=np.concatenate(influence),
-        dof_offset=offsets,
-        below=below_all,
-        story_height=np.concatenate(heights),
-        base_dof=base_dof,
-        friction=_friction_elements(buildings, base_dof),
-        links=_link_elements(links, buildings, index, offsets),
-        link_specs=tuple(links),
-        stories=_story_elements(buildings, offsets, below_all),
-        soil_dof=soil_dof,
-        tilt=np.concatenate(tilt).astype(np.int64),
-        tilt_height=np.concatenate(tilt_height),
-        columns=_column_nodes(buildings, nodes, offsets),
+    return (
+        np.concatenate(below).astype(np.int64),
+        np.concatenate(tilt).astype(np.int64),
+        np.concatenate(tilt_height),
+        np.concatenate(influence),
+        np.concatenate(heights),
     )
 
 

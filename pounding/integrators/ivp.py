@@ -1041,22 +1041,8 @@ def integrate_ivp(
     .. [2] Hairer, E., Nørsett, S.P., Wanner, G. (1993). Solving Ordinary Differential Equations I,
        2nd ed. Springer.
     """
-    if len(system.links):
-        raise PoundingInputError(
-            f"the system has {len(system.links)} coupling link(s); analysis.method = 'ivp' does "
-            "not integrate links; allowed with links: newmark, linear_acceleration, hht"
-        )
-    if len(system.stories) and len(system.friction):
-        raise PoundingInputError(
-            "analysis.method = 'ivp' does not combine yielding stories with isolation bearings; "
-            "allowed: newmark, linear_acceleration, hht"
-        )
+    _check_ivp_system(system, ground)
     method, rtol, atol, max_step, times = _validate(method, rtol, atol, max_step, output_times)
-    if not isinstance(system, PoundingSystem):
-        raise PoundingInputError(f"system = {type(system).__name__}; allowed: a PoundingSystem")
-    if not isinstance(ground, GroundMotion):
-        raise PoundingInputError(f"ground = {type(ground).__name__}; allowed: a GroundMotion")
-
     model = _Model(system)
     atol_vec, atol_u = model.tolerances(system, ground, rtol, atol)
     rec = _Recorder(model, times, ground)
@@ -1165,11 +1151,50 @@ def integrate_ivp(
         if failed:
             break
 
+    info = dict(
+        integrator="ivp",
+        method=method,
+        rtol=rtol,
+        atol=atol_u,
+        max_step=None if math.isinf(max_step) else max_step,
+        n_rhs=n_rhs,
+        n_events=n_events,
+        n_steps=n_steps,
+        n_calls=n_calls,
+        samples_per_step=SAMPLES_PER_STEP,
+        v0_floor=model.v0_floor,
+        stopped_at=stopped,
+        failed_stories=sorted({int(model.stories.building[e]) for e in failed}),
+    )
+    return _raw_result(model, rec, times, y, bool(failed), info)
+
+
+def _check_ivp_system(system: PoundingSystem, ground: GroundMotion) -> None:
+    """Refuse what the ivp path does not integrate, naming the methods that do."""
+    if not isinstance(system, PoundingSystem):
+        raise PoundingInputError(f"system = {type(system).__name__}; allowed: a PoundingSystem")
+    if not isinstance(ground, GroundMotion):
+        raise PoundingInputError(f"ground = {type(ground).__name__}; allowed: a GroundMotion")
+    if len(system.links):
+        raise PoundingInputError(
+            f"the system has {len(system.links)} coupling link(s); analysis.method = 'ivp' does "
+            "not integrate links; allowed with links: newmark, linear_acceleration, hht"
+        )
+    if len(system.stories) and len(system.friction):
+        raise PoundingInputError(
+            "analysis.method = 'ivp' does not combine yielding stories with isolation bearings; "
+            "allowed: newmark, linear_acceleration, hht"
+        )
+
+
+def _raw_result(
+    model: _Model, rec: _Recorder, times: np.ndarray, y: np.ndarray, failed: bool, info: dict
+) -> RawResult:
+    """The recorder's outputs, peaks and impact log at the final state y (NaN after a collapse)."""
     out = rec.out
     if failed:
         for arr in out.values():
             arr[rec.next :] = np.nan
-    impulse_now = y[model.ij]
     return RawResult(
         time=times.copy(),
         displacement=out["u"],
@@ -1184,27 +1209,13 @@ def integrate_ivp(
         peak_absolute_acceleration=rec.peak["abs_acc"],
         peak_contact_force=rec.peak["force"],
         peak_penetration=rec.peak["d"],
-        impacts=rec.impact_log(impulse_now),
+        impacts=rec.impact_log(y[model.ij]),
         friction_force=out["friction"],
         stick=out["stick"],
         story_force=out["story_force"],
         peak_story_force=rec.peak["story_force"],
         story_hysteretic=(_story_values(y[model.iu][None, :], y[model.ist][None, :], model)[3][0]),
-        info=dict(
-            integrator="ivp",
-            method=method,
-            rtol=rtol,
-            atol=atol_u,
-            max_step=None if math.isinf(max_step) else max_step,
-            n_rhs=n_rhs,
-            n_events=n_events,
-            n_steps=n_steps,
-            n_calls=n_calls,
-            samples_per_step=SAMPLES_PER_STEP,
-            v0_floor=model.v0_floor,
-            stopped_at=stopped,
-            failed_stories=sorted({int(model.stories.building[e]) for e in failed}),
-        ),
+        info=info,
     )
 
 

@@ -295,30 +295,8 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
     count as failed with the error "not run".
     """
     study = plan.study
-    names = list(study.axes)
-    shape = study.shape
-    loaded: dict[str, xr.Dataset | None] = {}
-    errors: dict[str, str] = dict(plan.failed_records)
-
-    def get(key: str) -> xr.Dataset | None:
-        if key not in loaded:
-            loaded[key] = None
-            if key in errors:
-                return None
-            rec = _read_record(plan.store, key)
-            if rec is None:
-                errors[key] = "not run"
-                return None
-            if rec["status"] != "ok":
-                errors[key] = str(rec.get("error") or "failed")
-                return None
-            loaded[key] = xr.Dataset.from_dict(rec["summary"])
-        return loaded[key]
-
-    baselines = plan.baseline_keys is not None
-    keys = [*plan.keys.ravel(), *(plan.baseline_keys.ravel() if baselines else ())]
-    runs = [get(k) for k in keys]
-    ok = [r for r in runs if r is not None]
+    loaded, errors = _load_runs(plan)
+    ok = [r for r in loaded.values() if r is not None]
     buildings = list(study.case.system.building_names)
     width = max(
         [study.case.system.buildings[i].n_floors for i in range(len(buildings))]
@@ -326,30 +304,94 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
     )
     n_contact = max([len(study.case.system.elements)] + [r.sizes["contact"] for r in ok])
     sizes = {"building": len(buildings), "floor": width, "story": width, "contact": n_contact}
+    data = _summary_variables(plan, loaded, sizes)
+    data.update(_run_variables(plan, errors))
+    for name, value in {
+        **_model_variables(study.case, width),
+        **_record_variables(study.axes["record"]),
+    }.items():
+        data[name] = (*value, {})
+    data.update(_intensity_variables(study))
+    coords = _study_coords(study, buildings, width, n_contact)
+    ds = xr.Dataset({k: (v[0], v[1]) for k, v in data.items()}, coords=coords)
+    for name, value in data.items():
+        ds[name].attrs.update(value[2] or ATTRS.get(name, {}))
+    for name in (
+        "record_acceleration",
+        "record_dt",
+        "record_reference",
+        "record_processing",
+        "run_status",
+        "run_error",
+        "run_key",
+        "baseline_key",
+    ):
+        if name in ds:
+            ds[name].attrs.update(ATTRS[name])
+    if "im_level" in ds.dims and "collapse_time" in ds:
+        _add_collapse_im(ds)
+    n_failed = int((data["run_status"][1] == "failed").sum())
+    ds.attrs.update(_study_attrs(plan, n_failed))
+    return ds
 
-    def gather(name: str, keys_array: np.ndarray) -> np.ndarray:
-        dims = SUMMARY[name][0]
-        out = np.full((*shape, *(sizes[d] for d in dims)), np.nan)
-        for index in np.ndindex(*shape):
-            r = get(keys_array[index])
-            if r is not None and name in r:  # runs stored by older versions may lack a variable
-                v = r[name].values
-                out[index + tuple(slice(0, n) for n in v.shape)] = v
-        return out
 
-    axis_dims = tuple(names)
+def _load_runs(plan: StudyPlan) -> tuple[dict[str, xr.Dataset | None], dict[str, str]]:
+    """Each run's stored summary by key (None: failed or not run) and each failed run's error."""
+    loaded: dict[str, xr.Dataset | None] = {}
+    errors: dict[str, str] = dict(plan.failed_records)
+    baselines = plan.baseline_keys.ravel() if plan.baseline_keys is not None else ()
+    for key in (*plan.keys.ravel(), *baselines):
+        if key in loaded:
+            continue
+        loaded[key] = None
+        if key in errors:
+            continue
+        rec = _read_record(plan.store, key)
+        if rec is None:
+            errors[key] = "not run"
+        elif rec["status"] != "ok":
+            errors[key] = str(rec.get("error") or "failed")
+        else:
+            loaded[key] = xr.Dataset.from_dict(rec["summary"])
+    return loaded, errors
+
+
+def _gather(
+    loaded: Mapping[str, xr.Dataset | None],
+    name: str,
+    keys_array: np.ndarray,
+    sizes: Mapping[str, int],
+) -> np.ndarray:
+    """Summary variable ``name`` of every run over (axes..., its dims), NaN-padded."""
+    dims = SUMMARY[name][0]
+    out = np.full((*keys_array.shape, *(sizes[d] for d in dims)), np.nan)
+    for index in np.ndindex(*keys_array.shape):
+        r = loaded[keys_array[index]]
+        if r is not None and name in r:  # runs stored by older versions may lack a variable
+            v = r[name].values
+            out[index + tuple(slice(0, n) for n in v.shape)] = v
+    return out
+
+
+def _summary_variables(
+    plan: StudyPlan, loaded: Mapping[str, xr.Dataset | None], sizes: Mapping[str, int]
+) -> dict[str, tuple]:
+    """The :data:`SUMMARY` variables over the axes, then the no-contact peaks and amplifications."""
+    axis_dims = tuple(plan.study.axes)
     data: dict[str, tuple] = {}
     for name, (dims, units, long_name) in SUMMARY.items():
         data[name] = (
             axis_dims + dims,
-            gather(name, plan.keys),
+            _gather(loaded, name, plan.keys, sizes),
             {"units": units, "long_name": long_name},
         )
+    if plan.baseline_keys is None:
+        return data
     with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN slices of failed runs
-        for name, (amp, long_name) in _AMPLIFIED.items() if baselines else ():
+        for name, (amp, long_name) in _AMPLIFIED.items():
             dims, units, base_long = SUMMARY[name]
-            base = gather(name, plan.baseline_keys)
+            base = _gather(loaded, name, plan.baseline_keys, sizes)
             data[f"no_contact_{name}"] = (
                 axis_dims + dims,
                 base,
@@ -357,39 +399,45 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
             )
             ratio = np.nanmax(data[name][1], axis=-1) / np.nanmax(base, axis=-1)
             data[amp] = (axis_dims + ("building",), ratio, {"units": "1", "long_name": long_name})
+    return data
 
-    def text(values: Callable[[str], str], keys_array: np.ndarray) -> np.ndarray:
-        return (
-            np.array([values(k) for k in keys_array.ravel()], dtype=object)
-            .astype(str)
-            .reshape(shape)
-        )
 
+def _key_text(values: Callable[[str], str], keys_array: np.ndarray) -> np.ndarray:
+    """``values`` of each run key, as a string array of the keys' shape."""
+    return (
+        np.array([values(k) for k in keys_array.ravel()], dtype=object)
+        .astype(str)
+        .reshape(keys_array.shape)
+    )
+
+
+def _run_variables(plan: StudyPlan, errors: Mapping[str, str]) -> dict[str, tuple]:
+    """Each combination's ``run_status``, ``run_key``, ``baseline_key`` and ``run_error``."""
+    axis_dims = tuple(plan.study.axes)
     # an empty key: a slot of a hunt-and-fill trace that needed no run
-    status = text(lambda k: "unused" if k == "" else "failed" if k in errors else "ok", plan.keys)
-    error = text(lambda k: errors.get(k, "") if k else "", plan.keys)
-    data["run_status"] = (axis_dims, status, {})
-    data["run_key"] = (axis_dims, plan.keys.astype(str), {})
-    if baselines:
+    status = _key_text(
+        lambda k: "unused" if k == "" else "failed" if k in errors else "ok", plan.keys
+    )
+    error = _key_text(lambda k: errors.get(k, "") if k else "", plan.keys)
+    data: dict[str, tuple] = {
+        "run_status": (axis_dims, status, {}),
+        "run_key": (axis_dims, plan.keys.astype(str), {}),
+    }
+    if plan.baseline_keys is not None:
         # a failed baseline leaves the amplification undefined: say so in the error text
-        base_err = text(lambda k: errors.get(k, ""), plan.baseline_keys)
+        base_err = _key_text(lambda k: errors.get(k, ""), plan.baseline_keys)
         error = np.where(
             (base_err != "") & (error == ""), np.char.add("no-contact run: ", base_err), error
         )
         data["baseline_key"] = (axis_dims, plan.baseline_keys.astype(str), {})
     data["run_error"] = (axis_dims, error, {})
-    for name, value in {
-        **_model_variables(study.case, width),
-        **_record_variables(study.axes["record"]),
-    }.items():
-        data[name] = (*value, {})
+    return data
 
-    coords: dict[str, Any] = {}
-    for name in names:
-        _, values, attrs = _axis_coord(name, study.axes[name])
-        coords[name] = (name, values, attrs)
-    if "im_level" in coords:
-        coords["im_level"][2]["long_name"] = study.level_label
+
+def _intensity_variables(study: Study) -> dict[str, tuple]:
+    """The scale factors of an IDA and each record's intensity and normalisation, as they apply."""
+    data: dict[str, tuple] = {}
+    if "im_level" in study.axes:
         data["scale_factor"] = _scale_factors(study)
     if study.im is not None:
         im = study.im
@@ -411,6 +459,19 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
             ),
             {"units": "1", "long_name": "PGV normalisation NM = median(PGV)/PGV (FEMA P695)"},
         )
+    return data
+
+
+def _study_coords(
+    study: Study, buildings: Sequence[str], width: int, n_contact: int
+) -> dict[str, Any]:
+    """The axes' coordinates, then the building, floor, story, mode and contact coordinates."""
+    coords: dict[str, Any] = {}
+    for name in study.axes:
+        _, values, attrs = _axis_coord(name, study.axes[name])
+        coords[name] = (name, values, attrs)
+    if "im_level" in coords:
+        coords["im_level"][2]["long_name"] = study.level_label
     coords.update(
         building=("building", np.array(buildings, dtype=object).astype(str), ATTRS["building"]),
         floor=("floor", np.arange(1, width + 1), ATTRS["floor"]),
@@ -419,7 +480,7 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         contact=("contact", np.arange(n_contact), ATTRS["contact"]),
     )
     el = study.case.system.elements
-    if len(el) == n_contact:
+    if len(el) == n_contact:  # the base case's contact labels fit every run's contact axis
         for name, values in (
             ("contact_left", np.array(el.left, dtype=object).astype(str)),
             ("contact_right", np.array(el.right, dtype=object).astype(str)),
@@ -432,28 +493,16 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
             ),
         ):
             coords[name] = ("contact", values, ATTRS[name])
-    ds = xr.Dataset({k: (v[0], v[1]) for k, v in data.items()}, coords=coords)
-    for name, value in data.items():
-        ds[name].attrs.update(value[2] or ATTRS.get(name, {}))
-    for name in (
-        "record_acceleration",
-        "record_dt",
-        "record_reference",
-        "record_processing",
-        "run_status",
-        "run_error",
-        "run_key",
-        "baseline_key",
-    ):
-        if name in ds:
-            ds[name].attrs.update(ATTRS[name])
-    if "im_level" in ds.dims and "collapse_time" in ds:
-        _add_collapse_im(ds)
-    n_failed = int((status == "failed").sum())
-    ds.attrs.update(
+    return coords
+
+
+def _study_attrs(plan: StudyPlan, n_failed: int) -> dict[str, Any]:
+    """The study Dataset's global attributes: the study, its size, analysis and provenance."""
+    study = plan.study
+    return dict(
         title=study.title,
         pounding_kind="study",
-        axes=json.dumps(names),
+        axes=json.dumps(list(study.axes)),
         law_params=json.dumps(study.law_params, sort_keys=True),
         law_parameters=json.dumps(_law_parameters(study), sort_keys=True),
         combinations=int(study.size),
@@ -469,7 +518,6 @@ def assemble(plan: StudyPlan) -> xr.Dataset:
         created=datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
         Conventions="CF-1.8",
     )
-    return ds
 
 
 def _add_collapse_im(ds: xr.Dataset) -> None:
