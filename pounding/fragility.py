@@ -565,26 +565,16 @@ def _interval_variables(
             values,
             {"units": "1", "long_name": f"probability, pointwise {level:.0%} band, {side}"},
         )
-    out["fragility_median_low"] = (
-        dims,
-        median_ci[0],
-        {"units": "g", "long_name": f"median, {level:.0%} low"},
-    )
-    out["fragility_median_high"] = (
-        dims,
-        median_ci[1],
-        {"units": "g", "long_name": f"median, {level:.0%} high"},
-    )
-    out["fragility_beta_low"] = (
-        dims,
-        beta_ci[0],
-        {"units": "1", "long_name": f"β, {level:.0%} low"},
-    )
-    out["fragility_beta_high"] = (
-        dims,
-        beta_ci[1],
-        {"units": "1", "long_name": f"β, {level:.0%} high"},
-    )
+    for name, symbol, units, ci in (
+        ("median", "median", "g", median_ci),
+        ("beta", "β", "1", beta_ci),
+    ):
+        for end, values in (("low", ci[0]), ("high", ci[1])):
+            out[f"fragility_{name}_{end}"] = (
+                dims,
+                values,
+                {"units": units, "long_name": f"{symbol}, {level:.0%} {end}"},
+            )
     return out
 
 
