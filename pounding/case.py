@@ -629,6 +629,11 @@ def case_from_dict(
     """Build a :class:`Case` from a parsed case mapping (what a TOML file holds)."""
     data = copy.deepcopy(dict(data))
     try:
+        if "ida" in data:
+            raise CaseError(
+                "[ida] makes this an incremental dynamic analysis: run it with `pounding ida FILE` "
+                "(`pounding run` takes one analysis, `pounding study` a [study])"
+            )
         _check_keys(data, _TOP_KEYS, "top level")
         blds = data.get("building")
         if not blds or not isinstance(blds, list) or not all(isinstance(b, Mapping) for b in blds):
@@ -669,6 +674,11 @@ def case_from_dict(
         except ValueError as exc:
             raise CaseError(str(exc)) from None
         if "ground_motion" not in data:
+            if "study" in data:
+                raise CaseError(
+                    "a [ground_motion] table is required for one analysis; this file's [study] "
+                    "gives the records: run it with `pounding study FILE`"
+                )
             raise CaseError("a [ground_motion] table is required")
         try:
             ground = _ground_motion(data["ground_motion"], base_dir)

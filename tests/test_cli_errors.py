@@ -88,6 +88,20 @@ def test_report_of_a_case_file_says_what_report_takes(tmp_path):
     assert "pounding run -o" in res.output and "signature" not in res.output
 
 
+@pytest.mark.parametrize(
+    ("example", "command"),
+    [("demo_study.toml", "pounding study FILE"), ("ida_fragility.toml", "pounding ida FILE")],
+)
+def test_run_of_a_study_or_ida_file_names_the_command_that_runs_it(tmp_path, example, command):
+    # it said "top level: unknown key(s) ida" of a key `pounding ida` reads
+    res = runner.invoke(
+        app, ["run", str(ROOT / "examples" / example), "-o", str(tmp_path / "o.nc")]
+    )
+    assert res.exit_code == 2
+    assert command in res.output and "unknown key" not in res.output
+    assert len(res.output.strip().splitlines()) == 1
+
+
 def test_broken_pipe_ends_quietly():
     # `pounding laws | head -1`: the reader closes the pipe after one line
     proc = subprocess.run(
