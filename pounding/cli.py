@@ -667,9 +667,11 @@ def _run_study_command(
     scheduler: str | None,
     store: str | None,
     retry_failed: bool,
+    ida: bool = False,
 ) -> tuple[Any, float, Any]:
-    """Plan, run (resumable, in parallel) and save a study; the Dataset, the start time and the
-    run store (as given or defaulted, for the closing line)."""
+    """Plan, run (resumable, in parallel) and save a study (``ida``: refused before any run unless
+    it is an IDA); the Dataset, the start time and the run store (as given or defaulted, for the
+    closing line)."""
     _netcdf_output(output)
     import time
 
@@ -686,6 +688,8 @@ def _run_study_command(
         raise UserError(f"--jobs = {jobs}; allowed: an integer >= 1")
     start = time.monotonic()
     loaded = load_study(case)
+    if ida and loaded.hunt is None and "im_level" not in loaded.axes:
+        raise UserError(f"{case}: not an IDA (give an [ida] table, or study.im and study.im_level)")
     store_dir = store or default_store(output)
     if loaded.hunt is not None:
         return _run_hunt_command(loaded, case, output, jobs, scheduler, store_dir, retry_failed)
@@ -831,9 +835,9 @@ def ida(
     import json
     import time
 
-    ds, start, store_dir = _run_study_command(case, output, jobs, scheduler, store, retry_failed)
-    if "im_level" not in ds.dims and "ida_run" not in ds.dims:
-        raise UserError(f"{case}: not an IDA (give an [ida] table, or study.im and study.im_level)")
+    ds, start, store_dir = _run_study_command(
+        case, output, jobs, scheduler, store, retry_failed, ida=True
+    )
     limits = json.loads(ds.attrs.get("limit_states", '["collapse"]'))
     _print_fragility(ds.pounding.fragility(limits))
     typer.echo(f"  {time.monotonic() - start:.1f} s; written {output} (runs in {store_dir})")

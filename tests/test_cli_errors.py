@@ -102,6 +102,15 @@ def test_run_of_a_study_or_ida_file_names_the_command_that_runs_it(tmp_path, exa
     assert len(res.output.strip().splitlines()) == 1
 
 
+def test_ida_of_a_study_that_is_not_one_is_refused_before_any_run(tmp_path):
+    # it ran the demo study's 100 runs, then said "not an IDA"
+    out = tmp_path / "x.nc"
+    res = runner.invoke(app, ["ida", str(ROOT / "examples" / "demo_study.toml"), "-o", str(out)])
+    assert res.exit_code == 2
+    assert "not an IDA" in res.output and "runs" not in res.output
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
 def test_broken_pipe_ends_quietly():
     # `pounding laws | head -1`: the reader closes the pipe after one line
     proc = subprocess.run(
