@@ -402,6 +402,20 @@ def test_ida_collapse_margin_is_p695_applied_to_each_variants_collapse_intensiti
     assert bad.exit_code == 2 and "sdc = 'E'; allowed: Dmax" in bad.output
 
 
+def test_collapse_margin_ratio_with_contact_is_found_at_every_gap(hunted):
+    # the no-contact law was fitted at the first gap only, so the ratio of every other gap was NaN
+    from pounding.risk import ida_collapse_margin
+
+    _, _, ds = hunted
+    two = ds.expand_dims(gap=[0.01, 0.04]).transpose("gap", ...)
+    two.attrs = ds.attrs
+    cm = ida_collapse_margin(two, ductility=3.0)
+    one = ida_collapse_margin(ds, ductility=3.0)
+    for gap in (0.01, 0.04):
+        np.testing.assert_allclose(cm["cmr_ratio"].sel(gap=gap).values, one["cmr_ratio"].values)
+    assert np.isfinite(cm["cmr_ratio"].values).all()
+
+
 def test_collapse_margin_needs_an_ida_scaled_to_sa(hunted):
     from pounding.risk import ida_collapse_margin
 

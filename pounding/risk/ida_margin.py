@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from pounding.errors import PoundingInputError
-from pounding.fragility import COLLAPSE, study_fragility, variants
+from pounding.fragility import COLLAPSE, study_fragility
 from pounding.risk.collapse_margin import (
     _ductility,
     _period,
@@ -83,9 +83,9 @@ def ida_collapse_margin(
     out = {name: np.full(shape, np.nan) for name in _FIELDS}
     passes = np.zeros(shape, dtype=bool)
     notes = np.full(shape, "", dtype=object)
-    for at in variants(cap, dims) if dims else [{}]:  # the no-contact variant once
-        index = tuple(at[d] for d in dims)
-        values = cap.isel(at).values
+    # every cell, the no-contact law at each gap too: the ratios with contact divide by it
+    for index in np.ndindex(*shape):
+        values = cap.isel(dict(zip(dims, index, strict=True))).values
         sa = np.where(np.isfinite(values), values, np.inf)
         try:
             cm = collapse_margin(sa, period, ductility, sdc, design, test, model)
