@@ -132,7 +132,7 @@ ROUND_OFF = 4.0 * np.finfo(np.float64).eps
 
 
 @jit_internal
-def settle_elements(md, fac, cf, h, el, tr, lin, f_prev, tol, max_iter):
+def settle_elements(bw, J_inv, L, D, cf, h, el, tr, lin, f_prev, tol, max_iter):
     """Complete the linear step with the element families' forces, found by fixed-point passes
     on the factors of J = c0 M + w(c1 C + K), which hold no element tangent. Returns False when
     they do not settle: Newton takes the step.
@@ -166,14 +166,14 @@ def settle_elements(md, fac, cf, h, el, tr, lin, f_prev, tol, max_iter):
     final = False
     for it in range(max_iter + 1):
         if loaded:
-            if fac.J_inv.shape[0] == n:
+            if J_inv.shape[0] == n:
                 # the inverse of a small system's J: n² independent products, not a chain of
                 # 2n dependent substitutions
                 for i in range(n):
                     du[i] = 0.0
-                _dense_matvec_add(fac.J_inv, rhs, 1.0, du)
+                _dense_matvec_add(J_inv, rhs, 1.0, du)
             else:
-                band_solve(fac.L, fac.D, md.bw, rhs, du)
+                band_solve(L, D, bw, rhs, du)
             big = 0.0
             for i in range(n):
                 big = max(big, abs(du[i]))
