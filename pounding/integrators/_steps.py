@@ -28,6 +28,7 @@ from pounding.integrators._families import (
     add_row_tangent,
     band_rows_into,
     eval_elements,
+    eval_elements_here,
     eval_friction,
     eval_gaps,
     gap_force,
@@ -193,7 +194,7 @@ def settle_elements(bw, J_inv, L, D, cf, h, el, tr, lin, f_prev, tol, max_iter):
             return True  # the forces evaluated are the forces assumed
         if it == max_iter:
             break
-        eval_elements(tr.u1, tr.v1, h, el)
+        eval_elements_here(tr.u1, tr.v1, h, el)
         if final:
             return True  # as Newton: a correction within tol, then the state it gives
         loaded = False
