@@ -251,19 +251,19 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     for k in range(n_fr):
         linear = linear and fr.kind[k] == FRICTION_COULOMB
     # element families without friction: the linear step, their forces settled on its factors
-    stories = el.kind.size > 0 and n_fr == 0
+    settle = el.kind.size > 0 and n_fr == 0
     condensable = n_fr == 0 and el.kind.size == 0
     g_start = ground_at(md.ag, md.ag_dt, t)
-    if not in_contact and hs == h and (linear or stories):
-        # open gaps, Coulomb slabs stuck or sliding, yielding stories: the exact linear step
+    if not in_contact and hs == h and (linear or settle):
+        # open gaps, Coulomb slabs stuck or sliding, element families: the exact linear step
         cf = newmark_coefficients(hs, sch)
         g_eff = cf.w * ground_at(md.ag, md.ag_dt, t + hs) - cf.alpha * g_start
         if n_fr == 0:
             linear_step(md, fac_h, g_eff, cf, x0, tr, wk.lin)
         else:
             linear_step_coulomb(md, fac_h, g_eff, cf, x0, fr, tr, wk)
-        # (the story forces settled by passes of this step's solve are not Newton iterations)
-        if not stories or settle_elements(md.bw, fac_h.J_inv, fac_h.L, fac_h.D, cf, hs, el, tr,
+        # (the element forces settled by passes of this step's solve are not Newton iterations)
+        if not settle or settle_elements(md.bw, fac_h.J_inv, fac_h.L, fac_h.D, cf, hs, el, tr,
                                           wk.lin, wk.vec[3], opts.tol, opts.max_iter):  # fmt: skip
             closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)
             for c in range(gaps.gap.size):
