@@ -50,14 +50,15 @@ Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) 
     backbone; through the side's local peak first (where its last unloading began below the
     target) when the line to that point is the steeper, as OpenSees ``ModIMKPeakOriented``; a
     partial unloading reloads at K_u until it meets that path. Each mode x (strength s, post-cap
-    c, accelerated reloading a, unloading stiffness k) has an energy capacity E_t = γ_x F_y δ_y (``gamma_s`` ... ``gamma_k``; 0 = off) and
-    β = (E_i/(E_t − ΣE))^c (``c``): at each zero-force crossing the side about to be loaded loses
-    F_y, α_s ← (1 − β_s), F_ref ← (1 − β_c) (the post-cap line moves in), its target drift grows by
-    (1 + β_a); at each reversal K_u ← (1 − β_k) K_u (E_i: hysteretic energy since the last
-    crossing, resp. reversal), but no lower than the line from the reversal to the target (and to
-    the local peak) ahead: a softer unloading line passes inside the target, the reload from its
-    zero-force drift is steeper than the unloading and the loop runs backwards, generating energy. A spent capacity (β = 1) fails the story: no force from
-    then on.
+    c, accelerated reloading a, unloading stiffness k) has an energy capacity E_t = γ_x F_y δ_y
+    (``gamma_s`` ... ``gamma_k``; 0 = off) and β = (E_i/(E_t − ΣE))^c (``c``): at each zero-force
+    crossing the side about to be loaded loses F_y, α_s ← (1 − β_s), F_ref ← (1 − β_c) (the
+    post-cap line moves in), its target drift grows by (1 + β_a); at each reversal
+    K_u ← (1 − β_k) K_u (E_i: hysteretic energy since the last crossing, resp. reversal), but no
+    lower than the line from the reversal to the target (and to the local peak) ahead: a softer
+    unloading line passes inside the target, the reload from its zero-force drift is steeper than
+    the unloading and the loop runs backwards, generating energy. A spent capacity (β = 1) fails
+    the story: no force from then on.
 
 The bilinear update bounds the trial force by the two hardening lines, so it is exact for any
 step (the return map of kinematic hardening; OpenSees ``Steel01`` with a1 = a3 = 0): unloading is
@@ -504,9 +505,6 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         f_hi = force_at(hi)[0] if hi < x else gx
         w += 0.5 * (f_lo + f_hi) * (hi - lo)
         lo, f_lo = hi, f_hi
-    if x >= t_a:  # the envelope pushed: no local peak on this side
-        t_a = x
-        l_x = l_f = 0.0
     ahead = math.inf
     for cx in corners:
         if x < cx < ahead:
@@ -514,6 +512,9 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     s1[SS_NEXT] = sgn * ahead
     # the slope beyond x (at a kink force_at gives the one before it)
     s1[SS_KT] = force_at(0.5 * (x + ahead) if ahead < math.inf else x + dy)[1]
+    if x >= t_a:  # the envelope pushed: no local peak on this side
+        t_a = x
+        l_x = l_f = 0.0
     f = sgn * gx
     if sgn > 0.0:
         s1[SS_ZERO_POS], s1[SS_DS_POS], s1[SS_DC_POS], s1[SS_T_POS] = z_a, ds_a, dc_a, t_a
