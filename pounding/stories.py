@@ -122,10 +122,11 @@ from pounding.errors import PoundingInputError
 #: Kind id of the story family in the compiled dispatch (pounding.integrators._dispatch).
 FAMILY_STORY = 1
 #: Columns of a story's state row: spring force F [N] (the force it reports), δ [m], W = ∫F dδ [J],
-#: the recoverable energy E [J] it holds; then the model's own (Bouc–Wen: ζ, ε; Takeda: the peak
+#: the recoverable energy E [J] it holds; then the model's own (Bouc–Wen: ζ, ε, the rate
+#: δ_y dζ/dδ at the state and the direction it was taken in (0: none yet); Takeda: the peak
 #: drifts [m] reached on each side, the zero-force drifts [m] the reloads start from, the direction
 #: of the last increment).
-SS_F, SS_D, SS_W, SS_E, SS_Z, SS_EPS = 0, 1, 2, 3, 4, 5
+SS_F, SS_D, SS_W, SS_E, SS_Z, SS_EPS, SS_G, SS_G_DIR = 0, 1, 2, 3, 4, 5, 6, 7
 SS_PEAK_POS, SS_PEAK_NEG, SS_ZERO_POS, SS_ZERO_NEG, SS_DIR = 4, 5, 6, 7, 8
 #: Takeda: the unloading stiffnesses [N/m] at those peaks, 0 until first computed (pow() of a
 #: non-integer exponent was most of the kernel's cost at every call; the peaks rarely change).
@@ -184,7 +185,9 @@ def bouc_wen_story_rate(z, eps, sgn, p):
     psi = gamma + (beta if sgn * z > 0.0 else -beta if sgn * z < 0.0 else 0.0)
     az = abs(z)
     zn = az * az if n == 2.0 else az if n == 1.0 else az**n  # pow() is most of the cost
-    g = (a - nu * psi * zn) / (1.0 + p[9] * eps)
+    g = a - nu * psi * zn
+    if p[9] != 0.0:  # a division on every RK4 stage's dependency chain otherwise
+        g /= 1.0 + p[9] * eps
     zeta_s = p[10]
     if zeta_s > 0.0:
         # h = 1 − ζ1 exp(−(ζ sgn − q ζ_u)²/ζ2²), ζ1 = ζ_s (1 − e^(−p ε)), ζ2 = (ψ + δ_ψ ε)(λ + ζ1)
@@ -208,13 +211,21 @@ def make_bouc_wen_story_kernel(rate):
         dy = fy / k
         dx = d - s0[SS_D]
         sgn = 1.0 if dx >= 0.0 else -1.0
-        m = max(1, min(int(math.ceil(abs(dx) / (BW_STEP * dy))), 100000))
-        hx = dx / m / dy  # the sub-step in units of δ_y
+        if abs(dx) <= BW_STEP * dy:
+            m = 1  # most increments of a step
+            hx = dx / dy
+        else:
+            m = max(1, min(int(math.ceil(abs(dx) / (BW_STEP * dy))), 100000))
+            hx = dx / m / dy  # the sub-step in units of δ_y
         z = s0[SS_Z]
         eps = s0[SS_EPS]
         c = 1.0 - alpha  # dε/dx δ_y = (1 − α) ζ
-        for _ in range(m):
-            g1 = rate(z, eps, sgn, p)
+        # the rate at the committed state in this direction: the last call's end rate, when it went
+        # this way (every trial of a step starts there)
+        g1 = s0[SS_G] if s0[SS_G_DIR] == sgn else rate(z, eps, sgn, p)
+        for i in range(m):
+            if i > 0:
+                g1 = rate(z, eps, sgn, p)
             z2 = z + 0.5 * hx * g1
             g2 = rate(z2, eps + 0.5 * hx * c * z, sgn, p)
             z3 = z + 0.5 * hx * g2
@@ -231,6 +242,8 @@ def make_bouc_wen_story_kernel(rate):
         s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * dy * z * z
         s1[SS_Z] = z
         s1[SS_EPS] = eps
+        s1[SS_G] = g
+        s1[SS_G_DIR] = sgn
         return f - k * d, k * (alpha + c * g) - k, 0.0
 
     return bouc_wen_story_kernel

@@ -18,9 +18,11 @@ from pounding.simulate import AnalysisOptions, run
 from pounding.stories import (
     N_STORY_PARAMS,
     N_STORY_STATE,
+    SS_D,
     SS_E,
     SS_EPS,
     SS_F,
+    SS_G_DIR,
     SS_W,
     SS_Z,
     STORY_MODELS,
@@ -462,6 +464,33 @@ def test_bouc_wen_cycle_dissipates_its_hysteretic_work():
     stored = 0.5 * 0.9 * fy * dy * rows[-1, 1] ** 2  # the hysteretic spring's (1 − α) k z²/2
     assert w_h == pytest.approx(rows[-1, 4] * fy * dy - stored, rel=1e-6)
     assert w_h > 3 * 4 * 0.9 * fy * dy  # three fat loops
+
+
+def test_bouc_wen_rate_kept_from_the_last_call_equals_the_rate_recomputed():
+    # the kernel starts each increment from the end rate of the last one when it goes the same way;
+    # forgetting it (direction column 0) before every call must change nothing, to the last bit,
+    # over reversals, sub-stepped increments, degradation and pinching, and trials repeated from
+    # one committed state (as the fixed-point passes do)
+    k, fy = 1.0e7, 1.0e4
+    dy = fy / k
+    p = np.array([k, fy, 0.05, 1.5, 0.6, 0.4, 1.0, 0.05, 0.05, 0.05, 0.5, 1.0, 0.0, 0.2, 0.0, 0.5])
+    t = np.linspace(0.0, 2.0, 4001)
+    history = 3.0 * dy * np.sin(2.0 * np.pi * t) * (1.0 + t) + 0.2 * dy * (t > 1.0)
+    kept = np.zeros(N_STORY_STATE)
+    fresh = np.zeros(N_STORY_STATE)
+    s1, s2 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
+    reused = 0
+    for d in history:
+        for trial in (d * (1.0 + 1e-7), d):
+            reused += kept[SS_G_DIR] == math.copysign(1.0, trial - kept[SS_D] or 1.0)
+            out_kept = bouc_wen_story_kernel(trial, 0.0, 0.01, kept, s1, p)
+            fresh[SS_G_DIR] = 0.0
+            out_fresh = bouc_wen_story_kernel(trial, 0.0, 0.01, fresh, s2, p)
+            assert out_kept == out_fresh
+            np.testing.assert_array_equal(s1, s2)
+        kept[:] = s1
+        fresh[:] = s2
+    assert reused > 7000  # the kept rate is used, not only checked
 
 
 def _reference_bouc_wen(b, c, gm: GroundMotion, duration: float, wall_k: float, gap: float):
