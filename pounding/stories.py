@@ -220,6 +220,7 @@ def make_bouc_wen_story_kernel(rate):
         z = s0[SS_Z]
         eps = s0[SS_EPS]
         c = 1.0 - alpha  # dε/dx δ_y = (1 − α) ζ
+        h6 = hx / 6.0  # RK4's weights: no division on the chain from one sub-step to the next
         # the rate at the committed state in this direction: the last call's end rate, when it went
         # this way (every trial of a step starts there)
         g1 = s0[SS_G] if s0[SS_G_DIR] == sgn else rate(z, eps, sgn, p)
@@ -232,8 +233,8 @@ def make_bouc_wen_story_kernel(rate):
             g3 = rate(z3, eps + 0.5 * hx * c * z2, sgn, p)
             z4 = z + hx * g3
             g4 = rate(z4, eps + hx * c * z3, sgn, p)
-            eps += hx * c * (z + 2.0 * z2 + 2.0 * z3 + z4) / 6.0
-            z += hx * (g1 + 2.0 * g2 + 2.0 * g3 + g4) / 6.0
+            eps += h6 * c * (z + 2.0 * z2 + 2.0 * z3 + z4)
+            z += h6 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
         g = rate(z, eps, sgn, p)
         f = alpha * k * d + c * fy * z
         s1[SS_F] = f
