@@ -448,7 +448,7 @@ def test_condensed_contact_step_satisfies_the_full_hht_step_equations(law, open_
     u1, v1, a1 = np.zeros(n), np.zeros(n), np.zeros(n)
     d1, dd1, f1, kd1, cd1 = (np.zeros(n_el) for _ in range(5))
     tr = kn.Trial(u1, v1, a1, d1, dd1, f1, kd1, cd1)
-    kn.dense_step(Q, pg, g_eff, cf, (u, v, a), tr)
+    kn.dense_step(Q, pg, g_eff, cf, (u, v, a), (u1, v1, a1))
     J = M / (beta * hs**2) + w * (gamma / (beta * hs) * C + K)
     Z, S = np.zeros((n_el, n)), np.zeros((n_el, n_el))
     have = np.zeros((n_el, 1 + 2 * el.el_dof.shape[1]), dtype=np.int64)

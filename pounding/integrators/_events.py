@@ -3,11 +3,11 @@ the roots and first drop of a step's cubic Hermite interpolant (:mod:`pounding.i
 
 from __future__ import annotations
 
-from pounding._numba import jit
+from pounding._numba import jit, jit_inline
 from pounding.integrators.hermite import hermite, hermite_slope, hermite_zero
 
 
-@jit
+@jit_inline
 def ground_at(ag, ag_dt, t):
     """Ground acceleration at t, linear between samples, 0 after the record."""
     x = t / ag_dt

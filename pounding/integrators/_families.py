@@ -91,13 +91,20 @@ def gap_force(gaps, c, d, dd):
     return contact_eval(gaps.law[c], d, dd, v0, gaps.hd[c], gaps.hf[c], pc)
 
 
-@jit_internal
+@jit_inline
 def gap_openings(u1, v1, gaps, d, dd):
     """δ and δ̇ of every gap; True when any gap is closed."""
+    return gap_openings_of(u1, v1, gaps.dof, gaps.sign, gaps.gap, d, dd)
+
+
+@jit_internal
+def gap_openings_of(u1, v1, dof, sign, gap, d, dd):
+    """:func:`gap_openings` on the gaps' dofs, signs and gaps [m] alone (a call copies every word
+    of the groups it is given)."""
     closed = False
-    for c in range(gaps.gap.size):
-        dc, vc = gather(gaps.dof, gaps.sign, c, u1, v1)
-        dc -= gaps.gap[c]
+    for c in range(gap.size):
+        dc, vc = gather(dof, sign, c, u1, v1)
+        dc -= gap[c]
         d[c] = dc
         dd[c] = vc
         if dc > 0.0:

@@ -91,10 +91,12 @@ def account_energy(md, hs, g0, g1, x0, tr, gaps, fr, el, en, wk):
     du = wk.vec[0, : u.size]
     vs = wk.vec[1, : u.size]
     g_avg = 0.5 * (g0 + g1)
+    work = 0.0  # summed apart: en may alias the arrays, so en[...] -= in the loop is a memory chain
     for i in range(u.size):
         du[i] = tr.u1[i] - u[i]
         vs[i] = v[i] + tr.v1[i]
-        en[EN_INPUT] -= du[i] * md.Mi[i] * g_avg
+        work += du[i] * md.Mi[i]
+    en[EN_INPUT] -= work * g_avg
     en[EN_DAMP] += 0.5 * _band_bilinear(md.CbT, md.bw, du, vs)
     for c in range(gaps.gap.size):
         en[EN_CONTACT] += 0.5 * (gaps.f0[c] + tr.f1[c]) * (tr.d1[c] - gaps.d0[c])

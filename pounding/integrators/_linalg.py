@@ -60,7 +60,7 @@ def _band_quadratic(AbT, bw, x):
     return total
 
 
-@jit
+@jit_inline
 def _band_bilinear(AbT, bw, x, y):
     """xᵀ A y for A given by its diagonals (as :func:`_band_quadratic`)."""
     n = AbT.shape[1]
