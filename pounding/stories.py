@@ -141,10 +141,14 @@ SS_T_POS, SS_T_NEG, SS_E_REV, SS_W_CROSS, SS_FAILED, SS_WX = 14, 15, 16, 17, 18,
 #: IMK: the local peak of each side (drift [m] and force [N] where its last unloading began below
 #: its target; a force of 0 when there is none).
 SS_LD_POS, SS_LF_POS, SS_LD_NEG, SS_LF_NEG = 20, 21, 22, 23
-#: IMK: the drift [m] of the next point ahead where the path may turn, in the direction of the last
-#: increment, and the slope [N/m] of the path up to it: a further increment short of it is straight.
-SS_NEXT, SS_KT = 24, 25
-N_STORY_STATE = 26
+#: Every model with straight branches (bilinear, Takeda, IMK): after each evaluation, the drift [m]
+#: of the next point ahead where the path may turn, in the direction of the increment (``SS_DIR``),
+#: the slope [N/m] of the path up to it, and 1/(2 k_e) [m/N] of the recoverable energy F²/(2 k_e)
+#: along it: a further increment in that direction short of that point is straight
+#: (:func:`story_straight`). ``SS_NEXT`` at the drift itself bars the shortcut (a branch that moves
+#: other state: a pushed peak; a failed story).
+SS_NEXT, SS_KT, SS_EK = 24, 25, 26
+N_STORY_STATE = 27
 #: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14;
 #: drift parameters in metres).
 N_STORY_PARAMS = 16
@@ -154,24 +158,59 @@ BW_STEP = 0.02
 PARK_ANG_BETA = 0.05
 
 
+def story_straight(d, state, trial, p, e):
+    """A drift increment of story row ``e`` (of the committed ``state``, ``trial`` state and
+    parameter ``p`` rows) to ``d`` [m] that continues the last one short of the next point where
+    the path may turn (``SS_NEXT``): F = F_n + k_t Δδ on the slope up to it (``SS_KT``), and only F,
+    δ, the work, the exact work ``SS_WX`` and E = F²/(2 k_e) change. Returns (True, F − k δ,
+    k_t − k) then, what the model's kernel gives to round-off; (False, 0, 0) when the increment is
+    not such (the kernel takes it). Most increments of an analysis are: this skips the kernel's
+    branches. (Rows by index, not views: a view per call costs the element loop its reference
+    counts.)"""
+    f0 = state[e, SS_F]
+    dx = d - state[e, SS_D]
+    if not (dx * state[e, SS_DIR] > 0.0 and dx * (d - state[e, SS_NEXT]) < 0.0):
+        return False, 0.0, 0.0
+    kt = state[e, SS_KT]
+    f = f0 + kt * dx
+    dw = 0.5 * (f0 + f) * dx
+    trial[e, SS_F] = f
+    trial[e, SS_D] = d
+    trial[e, SS_W] = state[e, SS_W] + dw
+    trial[e, SS_WX] = state[e, SS_WX] + dw
+    trial[e, SS_E] = state[e, SS_EK] * f * f
+    return True, f - p[e, 0] * d, kt - p[e, 0]
+
+
 def bilinear_story_kernel(d, dd, h, s0, s1, p):
     """Bilinear kinematic hardening (ratio b = p[2]; elastic–perfectly plastic at b = 0), exact:
     the trial force F_n + k Δδ bounded by the hardening lines b k δ ± (1 − b) F_y."""
     k, fy, b = p[0], p[1], p[2]
-    f = s0[SS_F] + k * (d - s0[SS_D])
+    dx = d - s0[SS_D]
+    f = s0[SS_F] + k * dx
     kt = k
     upper = b * k * d + (1.0 - b) * fy
     lower = b * k * d - (1.0 - b) * fy
+    sgn = 1.0 if dx > 0.0 else -1.0
+    # ahead: the other hardening line, reached at slope k; on a hardening line, straight on
+    ahead = d + (upper - f if dx > 0.0 else lower - f) / (k - b * k) if b < 1.0 else sgn * math.inf
     if f > upper:
         f = upper
         kt = b * k
+        ahead = math.inf
     elif f < lower:
         f = lower
         kt = b * k
+        ahead = -math.inf
     s1[SS_F] = f
     s1[SS_D] = d
-    s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * (d - s0[SS_D])
+    s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
     s1[SS_E] = 0.5 * f * f / k
+    # the straight path ahead (story_straight)
+    s1[SS_DIR] = sgn
+    s1[SS_NEXT] = ahead if dx != 0.0 else d
+    s1[SS_KT] = kt
+    s1[SS_EK] = 0.5 / k
     return f - k * d, kt - k, 0.0
 
 
@@ -279,6 +318,7 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
     dx = d - d0
     f = f0
     kt = k_pos if f0 > 0.0 else k_neg
+    ahead = d  # the point ahead up to which the path is straight (story_straight); d: none
     if dx > 0.0:
         if direction <= 0.0 and f0 <= 0.0:
             zero_pos = d0 - f0 / k_neg
@@ -289,14 +329,19 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
         elif f0 < 0.0 and d < zero_pos:
             f = f0 + k_neg * dx
             kt = k_neg
+            ahead = zero_pos
         else:
             f_peak = fy + b * k * (pos - dy)
             # a reload line steeper than k (beyond the checked ductility) would divide by ~0
             zero_pos = min(zero_pos, pos - f_peak / k)
             kt = f_peak / (pos - zero_pos)
             f = kt * (d - zero_pos)
+            ahead = pos
             if f0 > 0.0 and f0 + k_pos * dx < f:
                 f = f0 + k_pos * dx
+                # up the unloading line until it meets the reload line
+                if kt < k_pos:  # (a steeper reload line runs away from it)
+                    ahead = min(pos, (f - k_pos * d + kt * zero_pos) / (kt - k_pos))
                 kt = k_pos
     elif dx < 0.0:
         if direction >= 0.0 and f0 >= 0.0:
@@ -308,13 +353,17 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
         elif f0 > 0.0 and d > zero_neg:
             f = f0 + k_pos * dx
             kt = k_pos
+            ahead = zero_neg
         else:
             f_peak = -fy + b * k * (neg + dy)
             zero_neg = max(zero_neg, neg - f_peak / k)
             kt = f_peak / (neg - zero_neg)
             f = kt * (d - zero_neg)
+            ahead = neg
             if f0 < 0.0 and f0 + k_neg * dx > f:
                 f = f0 + k_neg * dx
+                if kt < k_neg:
+                    ahead = max(neg, (f - k_neg * d + kt * zero_neg) / (kt - k_neg))
                 kt = k_neg
     if d > pos:
         pos = d
@@ -334,6 +383,10 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
     s1[SS_DIR] = direction
     s1[SS_KU_POS] = k_pos
     s1[SS_KU_NEG] = k_neg
+    s1[SS_NEXT] = ahead
+    s1[SS_KT] = kt
+    # (the force keeps its sign up to the point ahead)
+    s1[SS_EK] = 0.5 / (k_pos if f > 0.0 or (f == 0.0 and direction > 0.0) else k_neg)
     return f - k * d, kt - k, 0.0
 
 
@@ -345,28 +398,14 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     within it (the reversal, the zero-force crossing) and its energies are the exact work along the
     piecewise-linear path (``SS_WX``; ``SS_W`` is the ledger's trapezoid per step). The reload
     path runs from the zero-force drift through the local peak (``SS_LD_*``, ``SS_LF_*``) to the
-    target when the line to the local peak is steeper than the line to the target. An increment
-    that continues the last one short of the next point where the path may turn (``SS_NEXT``) is
-    straight on the slope up to it (``SS_KT``)."""
+    target when the line to the local peak is steeper than the line to the target. Writes the
+    next point where the path may turn and the slope up to it (:func:`story_straight`)."""
     k, fy0 = p[0], p[1]
     dy = fy0 / k
     d0, f0, w0, wx0 = s0[SS_D], s0[SS_F], s0[SS_W], s0[SS_WX]
     dx = d - d0
     for i in range(N_STORY_STATE):
         s1[i] = s0[i]
-    if dx * s0[SS_DIR] > 0.0 and dx * (d - s0[SS_NEXT]) < 0.0 and s0[SS_FAILED] == 0.0:
-        # on in the same direction, short of the next turn: straight on the last slope
-        kt = s0[SS_KT]
-        f = f0 + kt * dx
-        side, t_side = (1.0, SS_T_POS) if dx > 0.0 else (-1.0, SS_T_NEG)
-        if side * d0 >= max(side * s0[t_side], dy):  # pushing the envelope
-            s1[t_side] = d
-        s1[SS_F] = f
-        s1[SS_D] = d
-        s1[SS_W] = w0 + 0.5 * (f0 + f) * dx
-        s1[SS_WX] = wx0 + 0.5 * (f0 + f) * dx
-        s1[SS_E] = 0.5 * f * f / (k * (1.0 - s0[SS_DK]))
-        return f - k * d, kt - k, 0.0
     alpha, d_p, d_pc, kappa = p[2], p[3], p[4], p[5]
     g_s, g_c, g_a, g_k, c = p[6], p[7], p[8], p[9], p[10]
     e_y = fy0 * dy
@@ -407,6 +446,7 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         s1[SS_W] = w0 + 0.5 * (f0 + f) * dx
         s1[SS_WX] = wx0 + 0.5 * (f0 + f) * dx
         s1[SS_E] = 0.0 if failed else 0.5 * f * f / ku
+        s1[SS_NEXT] = d
         return f - k * d, (0.0 if failed else ku) - k, 0.0
     sgn = 1.0 if dx > 0.0 else -1.0
     # the frame of the increment: x moves up, the loaded side is "a"
@@ -523,9 +563,12 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
     for cx in corners:
         if x < cx < ahead:
             ahead = cx
-    s1[SS_NEXT] = sgn * ahead
+    # the straight path ahead (story_straight); none while the envelope is pushed (the target
+    # follows the drift) or once failed
+    s1[SS_NEXT] = d if failed or x >= t_a else sgn * ahead
     # the slope beyond x (at a kink force_at gives the one before it)
     s1[SS_KT] = force_at(0.5 * (x + ahead) if ahead < math.inf else x + dy)[1]
+    s1[SS_EK] = 0.5 / ku
     if x >= t_a:  # the envelope pushed: no local peak on this side
         t_a = x
         l_x = l_f = 0.0

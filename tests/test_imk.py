@@ -22,11 +22,9 @@ from pounding.stories import (
     N_STORY_PARAMS,
     N_STORY_STATE,
     SS_D,
-    SS_DIR,
     SS_E,
     SS_F,
     SS_FAILED,
-    SS_NEXT,
     SS_WX,
     Stories,
     imk_failure_ahead,
@@ -396,30 +394,6 @@ def _random_history(seed: int) -> np.ndarray:
     jumps = rng.uniform(-7.0, 7.0, 60)
     walk = 7.0 * np.tanh(np.cumsum(rng.normal(0.0, 1.0, 100)) / 7.0)
     return np.concatenate((walk[:50], jumps, walk[50:])) * DY
-
-
-@pytest.mark.parametrize("name", list(_SETS))
-def test_the_straight_shortcut_equals_the_full_rules_at_every_step(name):
-    # the kernel goes straight on its last slope while an increment continues the last one short
-    # of the next turn (SS_NEXT, SS_KT); each such step, taken again with the shortcut barred
-    # (SS_NEXT moved behind the drift), gives the same force, tangent and state
-    gammas, c, kappa = _SETS[name]
-    p = _params(residual=kappa, gammas=gammas, c=c)
-    s0, s1, full = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
-    taken = 0
-    for d in piecewise(_HAND, DY, 13)[0]:
-        out = imk_story_kernel(d, 0.0, 0.0, s0, s1, p)
-        dx = d - s0[SS_D]
-        if dx * s0[SS_DIR] > 0.0 and dx * (d - s0[SS_NEXT]) < 0.0:
-            taken += 1
-            barred = s0.copy()
-            barred[SS_NEXT] = s0[SS_D]
-            assert imk_story_kernel(d, 0.0, 0.0, barred, full, p) == pytest.approx(
-                out, rel=1e-9, abs=1e-9 * FY
-            )
-            np.testing.assert_allclose(s1[:SS_NEXT], full[:SS_NEXT], rtol=1e-9, atol=1e-9 * FY * DY)
-        s0[:] = s1
-    assert taken > 300
 
 
 @pytest.mark.parametrize("name", ["off", "all_modes", "all_modes_c1.6"])

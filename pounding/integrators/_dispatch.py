@@ -157,10 +157,16 @@ _bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_rate))
 _takeda_story = jit(_stories.takeda_story_kernel)
 _imk_story = jit(_stories.imk_story_kernel)
 _story_stored = jit(_stories.story_stored)
+# inlined into the element loop: most story increments of an analysis take it
+story_straight = jit_inline(_stories.story_straight)
+#: The state columns a straight story increment writes (the rest stay the committed ones).
+STRAIGHT_COLUMNS = (_stories.SS_F, _stories.SS_D, _stories.SS_W, _stories.SS_WX, _stories.SS_E)
 
 FAMILY_LINK = _links.FAMILY_LINK
 FAMILY_STORY = _stories.FAMILY_STORY
 _IMK = _stories.STORY_MODELS["imk"].kernel_id
+#: The story model without straight branches (smooth: story_straight never applies).
+BOUC_WEN_ID = _stories.STORY_MODELS["bouc_wen"].kernel_id
 _SS_FAILED = _stories.SS_FAILED
 
 

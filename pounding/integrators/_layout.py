@@ -75,8 +75,12 @@ Gaps = namedtuple("Gaps", "dof sign gap law params tc_coef tc_exp inside v0 hd h
 #: stick force of the current step and the located-event flags.
 Friction = namedtuple("Friction", "dof kind law params bw normal state p event")
 #: Element families: family kind and law id per element, dofs and signs, parameters, committed and
-#: trial state rows, and δ, δ̇, force and tangents at the step start (d0, f0) and trial (d1...).
-Elements = namedtuple("Elements", "kind law dof sign params state trial d0 f0 d1 dd1 f1 kd cd")
+#: trial state rows, and δ, δ̇, force and tangents at the step start (d0, f0) and trial (d1...);
+#: ``written``: True where a kernel wrote the trial row since the last commit (else it equals the
+#: committed row but for the columns a straight story increment writes).
+Elements = namedtuple(
+    "Elements", "kind law dof sign params state trial d0 f0 d1 dd1 f1 kd cd written"
+)
 #: Factors of a tangent without contacts for the step ``h[0]``: band LDLᵀ, the dense inverse (0 × 0
 #: unless the system is small or has Coulomb slabs), the condensation of the gaps on it (row c of Z
 #: is J⁻¹ b_c, row c of S = Bᵀ J⁻¹ B its column c; valid where ``have[c, 0]``, Z[c] nonzero only

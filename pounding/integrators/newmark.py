@@ -248,7 +248,7 @@ class ElementFamilyRows:
         return kn.Elements(_i64(self.kind), _i64(self.law), _i64(self.dof), _f64(self.sign),
                            _f64(self.params), np.zeros((m, self.n_state)),
                            np.zeros((m, self.n_state)), z, z.copy(), z.copy(), z.copy(),
-                           z.copy(), z.copy(), z.copy())  # fmt: skip
+                           z.copy(), z.copy(), z.copy(), np.ones(m, dtype=np.bool_))  # fmt: skip
 
 
 def element_families(system: PoundingSystem) -> ElementFamilyRows:
