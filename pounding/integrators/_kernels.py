@@ -143,7 +143,7 @@ def _prepare(sy, sch, gaps, fr, el, h):
     if dense:
         Q, pg = dense_map(h, sy.M, sy.C, sy.K, Mi, sch)
     else:
-        Q = np.zeros((0, 3 * n))
+        Q = np.zeros((0, 0))
         pg = np.zeros(0)
     tr = Trial(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n_el), np.zeros(n_el),
                np.zeros(n_el), np.zeros(n_el), np.zeros(n_el))  # fmt: skip
@@ -164,13 +164,13 @@ def _prepare(sy, sch, gaps, fr, el, h):
                    np.zeros((n_el, n_have), dtype=np.int64), blk)  # fmt: skip
     refactor(h, md, sch, fac_h, wk.Jb)
     fac_c = Factor(fac_h.h.copy(), fac_h.L.copy(), fac_h.D.copy(), fac_h.J_inv.copy(),
-                   fac_h.Z.copy(), fac_h.S.copy(), np.zeros((0, 3 * n)), np.zeros(0),
+                   fac_h.Z.copy(), fac_h.S.copy(), np.zeros((0, 0)), np.zeros(0),
                    fac_h.have.copy(), blk)  # fmt: skip
     # the factor of any other step length (graded, before a separation, located events) for the
     # condensed step of a large system of gaps alone; unused (empty) otherwise
     k = n_el if _condensed_any(md, fr, el) else 0
     fac_g = Factor(np.zeros(1), np.zeros((n, bw + 1)), np.zeros(n), np.empty((0, 0)),
-                   np.zeros((k, n)), np.zeros((k, k)), np.zeros((0, 3 * n)), np.zeros(0),
+                   np.zeros((k, n)), np.zeros((k, k)), np.zeros((0, 0)), np.zeros(0),
                    np.zeros((k, n_have), dtype=np.int64), blk)  # fmt: skip
     ls = LoopState(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(N_CT), np.zeros(N_EN),
                    np.zeros(n), np.zeros(n), np.zeros(n_el, dtype=np.bool_),

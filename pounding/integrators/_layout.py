@@ -84,8 +84,8 @@ Elements = namedtuple(
 #: Factors of a tangent without contacts for the step ``h[0]``: band LDLᵀ, the dense inverse (0 × 0
 #: unless the system is small or has Coulomb slabs), the condensation of the gaps on it (row c of Z
 #: is J⁻¹ b_c, row c of S = Bᵀ J⁻¹ B its column c; valid where ``have[c, 0]``, Z[c] nonzero only
-#: on the row ranges in ``have[c, 1:]``), for small systems the dense map of the linear step (Q, pg;
-#: zero rows when the band form is used), and the diagonal blocks of L (``band_blocks``: one per
+#: on the row ranges in ``have[c, 1:]``), for small systems the dense map of the linear step (Qᵀ, pg;
+#: empty when the band form is used), and the diagonal blocks of L (``band_blocks``: one per
 #: building without shared dofs).
 Factor = namedtuple("Factor", "h L D J_inv Z S Q pg have blk")
 #: What the caller passes: matrices M, C, K, the influence vector, the dof below each dof (−1 at a

@@ -60,8 +60,10 @@ from pounding.system import FRICTION_COULOMB
 
 @jit
 def dense_map(h, M, C, K, Mi, sch):
-    """Q (n × 3n) and p (n) with u1 = Q [u; v; a] + p g_eff: one Newmark/HHT step of the linear
-    system, for small systems (see :func:`linear_step`)."""
+    """Qᵀ (3n × n) and p (n) with u1 = Q [u; v; a] + p g_eff: one Newmark/HHT step of the linear
+    system, for small systems (see :func:`linear_step`). Stored transposed: the step sums it column
+    by column, a loop over the rows of u1 that vectorises (a row's dot product does not, its sum
+    being a chain)."""
     n = M.shape[0]
     bw = bandwidth(M, C, K)
     L, D = band_ldl(tangent_band(h, to_band(M, bw), to_band(C, bw), to_band(K, bw), sch), bw)
@@ -70,31 +72,35 @@ def dense_map(h, M, C, K, Mi, sch):
     cf = newmark_coefficients(h, sch)
     w = cf.w
     alpha = cf.alpha
-    Q = np.zeros((n, 3 * n))
+    Q = np.zeros((3 * n, n))
     pg = np.zeros(n)
     for i in range(n):
         for k in range(n):
             jik = J_inv[i, k]
             pg[i] -= jik * Mi[k]
             for j in range(n):
-                Q[i, j] += jik * (cf.c0 * M[k, j] + w * cf.c1 * C[k, j] + alpha * K[k, j])
-                Q[i, n + j] += jik * (cf.c2 * M[k, j] + (w * cf.c4 + alpha) * C[k, j])
-                Q[i, 2 * n + j] += jik * (cf.c3 * M[k, j] + w * cf.c5 * C[k, j])
+                Q[j, i] += jik * (cf.c0 * M[k, j] + w * cf.c1 * C[k, j] + alpha * K[k, j])
+                Q[n + j, i] += jik * (cf.c2 * M[k, j] + (w * cf.c4 + alpha) * C[k, j])
+                Q[2 * n + j, i] += jik * (cf.c3 * M[k, j] + w * cf.c5 * C[k, j])
     return Q, pg
 
 
 @jit_kernel
 def dense_step(Q, pg, g_eff, cf, x0, x1):
-    """Apply the dense map (explicit loops: no allocation, no BLAS call overhead); x1 = the end's
-    (u1, v1, a1)."""
+    """Apply the dense map Qᵀ (explicit loops: no allocation, no BLAS call overhead); x1 = the end's
+    (u1, v1, a1). Each u1_i sums its terms in the order of a row's dot product (the same digits),
+    the columns taken in turn so that the rows go in vector lanes."""
     u, v, a = x0
     u1, v1, a1 = x1
     n = u.size
     for i in range(n):
-        acc = pg[i] * g_eff
-        for j in range(n):
-            acc += Q[i, j] * u[j] + Q[i, n + j] * v[j] + Q[i, 2 * n + j] * a[j]
-        u1[i] = acc
+        u1[i] = pg[i] * g_eff
+    for j in range(n):
+        uj = u[j]
+        vj = v[j]
+        aj = a[j]
+        for i in range(n):
+            u1[i] += Q[j, i] * uj + Q[n + j, i] * vj + Q[2 * n + j, i] * aj
     end_of_step(cf, u, v, a, u1, v1, a1)
 
 
@@ -117,7 +123,7 @@ def linear_step_on(Mi, Mb, Cb, Kb, bw, L, D, Q, pg, g_eff, cf, x0, x1, lin):
     band products (Mi = M ι, band rows Mb, Cb, Kb of width bw) and the band factors (L, D) of J:
     O(n bw) per step, and the increment keeps its digits at small steps."""
     u, v, a = x0
-    if Q.shape[0] == u.size:
+    if Q.shape[1] == u.size:
         dense_step(Q, pg, g_eff, cf, x0, x1)
         return
     u1, v1, a1 = x1
