@@ -12,18 +12,25 @@ import numpy as np
 import pytest
 from _histories import piecewise
 
+from pounding.ground_motion import sine_pulse
 from pounding.integrators import _kernels as kn
 from pounding.integrators._families import eval_elements
+from pounding.integrators._steps import SLOPE_REFRESH, slopes_prepare, slopes_update
+from pounding.simulate import AnalysisOptions, run
 from pounding.stories import (
     FAMILY_STORY,
     N_STORY_PARAMS,
     N_STORY_STATE,
     SS_DIR,
+    SS_KT,
     SS_NEXT,
     SS_WX,
     STORY_MODELS,
+    Stories,
     story_straight,
 )
+from pounding.structure import ShearBuilding
+from pounding.system import assemble
 
 K, FY = 2.0e7, 1.0e5
 DY = FY / K
@@ -144,3 +151,88 @@ def test_a_straight_pass_after_a_kernel_pass_starts_from_the_committed_state(cas
     expected = committed[None, :].copy()
     story_straight(short, committed[None, :], expected, el.params, 0)
     np.testing.assert_array_equal(el.trial[0], expected[0])
+
+
+@pytest.mark.parametrize("model", ["bilinear", "takeda", "imk"])
+def test_every_hht_step_of_a_yielding_building_meets_its_weighted_equation(model):
+    """HHT weights the end of a step by w = 1 + α (α = −0.1): M a1 + w(C v1 + K u1 + Bᵀ g1)
+    − α(C v0 + K u0 + Bᵀ g0) = −M ι (w a_g1 − α a_g0), g = F − k δ of each story. A step in which
+    every story goes straight on solves it in one product with w kd in the tangent (most steps
+    here); the forces F are recomputed by driving each story's Python kernel along the drifts."""
+    params = {"yield_drift": 0.002, "hardening": 0.03}
+    building = ShearBuilding.uniform(
+        "A", 3, period=0.35, mass=2.0e5, stories=Stories(model, params)
+    )
+    system = assemble([building], [])
+    gm = sine_pulse(amplitude=0.3 * 9.80665, period=0.6, duration=2.0, dt=0.002)
+    dt, alpha = 1e-3, -0.1
+    raw, _ = run(
+        system, gm, AnalysisOptions(method="hht", alpha=alpha, dt=dt, output_dt=dt, duration=2.0)
+    )
+    u, v, a, ag = raw.displacement, raw.velocity, raw.acceleration, raw.ground_acceleration
+    st = system.stories
+    B = np.zeros((len(st), system.n_dof))
+    for r in range(len(st)):
+        for c in range(st.dof.shape[1]):
+            if st.dof[r, c] >= 0:
+                B[r, st.dof[r, c]] = st.sign[r, c]
+    drift = u @ B.T
+    assert np.abs(drift).max() > 2.5 * params["yield_drift"] * building.heights[0]
+    kernel = STORY_MODELS[model].kernel
+    g = np.zeros_like(drift)
+    for r in range(len(st)):
+        s0, s1 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
+        for j in range(1, drift.shape[0]):
+            g[j, r] = kernel(drift[j, r], 0.0, dt, s0, s1, st.params[r])[0]
+            s0[:] = s1
+    M, C, K, iota = system.mass, system.damping, system.stiffness, system.influence
+    w = 1.0 + alpha
+    internal = v @ C + u @ K + g @ B
+    residual = (
+        a[1:] @ M + w * internal[1:] - alpha * internal[:-1]
+        + np.outer(w * ag[1:] - alpha * ag[:-1], iota) @ M
+    )  # fmt: skip
+    scale = np.abs(g).max() + np.abs(u @ K).max()
+    assert np.abs(residual).max() <= 1e-7 * scale
+
+
+@numba.njit
+def _update(sl, el, w):
+    return slopes_update(sl, el, w)
+
+
+@numba.njit
+def _prepare_slopes(J_inv, el):
+    return slopes_prepare(J_inv, el, True)
+
+
+def test_rank_one_updates_of_the_stories_condensation_equal_the_inverse_of_the_tangent():
+    # a 4-dof chain of 4 stories (one to the ground), random slopes: after each round of changes
+    # (some stories only), and across a rebuild from kd = 0, Z = (J + w Bᵀ diag(kd) B)⁻¹ Bᵀ and
+    # S = B Zᵀ as numpy's inverse gives them
+    rng = np.random.default_rng(7)
+    n, w = 4, 0.9
+    el = _elements("takeda", _CASES["takeda"][1])
+    el = el._replace(kind=np.full(n, FAMILY_STORY), law=np.full(n, el.law[0]),
+                     dof=np.array([[0, -1], [1, 0], [2, 1], [3, 2]]),
+                     sign=np.tile([1.0, -1.0], (n, 1)), params=np.repeat(el.params, n, axis=0),
+                     state=np.zeros((n, N_STORY_STATE)))  # fmt: skip
+    el.sign[0, 1] = 0.0
+    B = np.zeros((n, n))
+    for e in range(n):
+        for c in range(2):
+            if el.dof[e, c] >= 0:
+                B[e, el.dof[e, c]] = el.sign[e, c]
+    J = B.T @ np.diag(rng.uniform(1.0, 2.0, n) * K) @ B + np.diag(rng.uniform(0.5, 1.0, n) * K)
+    sl = _prepare_slopes(np.linalg.inv(J), el)
+    for round_ in range(40):
+        changed = rng.random(n) < 0.5
+        el.state[changed, SS_KT] = K * rng.uniform(-0.3, 1.0, changed.sum())
+        if round_ == 25:
+            sl.count[0] = SLOPE_REFRESH
+        assert _update(sl, el, w)
+        kd = el.state[:, SS_KT] - K
+        Z = np.linalg.solve(J + w * B.T @ np.diag(kd) @ B, B.T).T
+        np.testing.assert_allclose(sl.Z, Z, rtol=0, atol=1e-10 * np.abs(Z).max())
+        np.testing.assert_allclose(sl.S, B @ Z.T, rtol=0, atol=1e-10 * np.abs(Z).max())
+    assert sl.count[0] < 40 * n  # the rebuild happened

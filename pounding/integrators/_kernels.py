@@ -16,6 +16,7 @@ from pounding._numba import jit, jit_inline, jit_internal, jit_kernel  # noqa: F
 from pounding.integrators._coefficients import Coef, newmark_coefficients  # noqa: F401
 from pounding.integrators._dispatch import (  # noqa: F401
     BILINEAR_ID,
+    BOUC_WEN_ID,
     FAMILY_STORY,
     bilinear_rate,
     bouc_wen_rate,
@@ -102,7 +103,9 @@ from pounding.integrators._steps import (  # noqa: F401
     refactor,
     residual,
     settle_elements,
+    slopes_prepare,
     stick_force,
+    straight_step,
 )
 from pounding.system import FRICTION_COULOMB
 
@@ -175,7 +178,13 @@ def _prepare(sy, sch, gaps, fr, el, h):
     ls = LoopState(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(N_CT), np.zeros(N_EN),
                    np.zeros(n), np.zeros(n), np.zeros(n_el, dtype=np.bool_),
                    np.zeros(n_el, dtype=np.bool_))  # fmt: skip
-    return md, fac_h, fac_c, fac_g, tr, wk, ls
+    # the stories condensed on the base step's tangent: a step in which every story goes straight
+    # on is then one product (straight_step)
+    straight = dense and fr.dof.size == 0 and el.kind.size > 0
+    for e in range(el.kind.size):
+        straight = straight and el.kind[e] == FAMILY_STORY and el.law[e] != BOUC_WEN_ID
+    sl = slopes_prepare(fac_h.J_inv, el, straight)
+    return md, fac_h, fac_c, fac_g, tr, wk, ls, sl
 
 
 @jit_inline
@@ -242,8 +251,10 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     """Take the step [t, t + hs] by the cheapest exact route: the linear step while nothing acts,
     then, if a gap closes, the step condensed onto the gaps (no friction, no element families) or
     Newton over every family. ``facs`` = the factors of the base step, of the contact step and of
-    any other length (:func:`_step_any`), ``off`` = (no gap held open, open gaps held open). Returns (ok, Newton iterations, hs: the length taken)."""
-    fac_h, fac_c, fac_g = facs
+    any other length (:func:`_step_any`), and the stories' condensation on the first
+    (:func:`straight_step`); ``off`` = (no gap held open, open gaps held open). Returns (ok, Newton iterations, hs: the
+    length taken)."""
+    fac_h, fac_c, fac_g, sl = facs
     none_off, open_off = off
     h = opts.h
     n_fr = fr.dof.size
@@ -263,8 +274,9 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
         else:
             linear_step_coulomb(md, fac_h, g_eff, cf, x0, fr, tr, wk)
         # (the element forces settled by passes of this step's solve are not Newton iterations)
-        if not settle or settle_elements(md.bw, fac_h.J_inv, fac_h.L, fac_h.D, cf, hs, el, tr,
-                                          wk.lin, wk.vec[3], opts.tol, opts.max_iter):  # fmt: skip
+        if (not settle or straight_step(sl, cf, hs, el, tr, wk.vec[3])
+                or settle_elements(md.bw, fac_h.J_inv, fac_h.L, fac_h.D, cf, hs, el, tr, wk.lin,
+                                   wk.vec[3], opts.tol, opts.max_iter)):  # fmt: skip
             closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)
             for c in range(gaps.gap.size):
                 tr.f1[c] = 0.0
@@ -548,11 +560,11 @@ def newmark_run(sy, sch, gaps, fr, el, opts, n_steps, out_every, out):
     # (a segfault in about 1 of 10 SIGTERMs sent to a serial study at that moment)
     held = _hold_signals()
     try:
-        md, fac_h, fac_c, fac_g, tr, wk, ls = _prepare(sy, sch, gaps, fr, el, opts.h)
+        md, fac_h, fac_c, fac_g, tr, wk, ls, sl = _prepare(sy, sch, gaps, fr, el, opts.h)
     finally:
         _release_signals(held)
-    return _integrate(md, sch, gaps, fr, el, opts, (fac_h, fac_c, fac_g), tr, wk, ls, n_steps, out_every,
-                      out)  # fmt: skip
+    return _integrate(md, sch, gaps, fr, el, opts, (fac_h, fac_c, fac_g, sl), tr, wk, ls, n_steps,
+                      out_every, out)  # fmt: skip
 
 
 @jit_internal

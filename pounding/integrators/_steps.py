@@ -37,7 +37,7 @@ from pounding.integrators._families import (
     in_band,
     row_stiffness,
 )
-from pounding.integrators._layout import FS_DIR, FS_F0, FS_F1, FS_STUCK
+from pounding.integrators._layout import FS_DIR, FS_F0, FS_F1, FS_STUCK, Slopes
 from pounding.integrators._linalg import (
     _band_inverse,
     _band_matvec_add,
@@ -55,6 +55,7 @@ from pounding.integrators._linalg import (
     unit_column,
     woodbury_band_solve,
 )
+from pounding.stories import SS_KT
 from pounding.system import FRICTION_COULOMB
 
 
@@ -225,6 +226,125 @@ def settle_elements(bw, J_inv, L, D, cf, h, el, tr, lin, f_prev, tol, max_iter):
             f_prev[e] = el.f1[e]
             loaded = _load(el, e, w * df, rhs) or loaded
     return False
+
+
+#: Rank-one updates of the story slopes' condensation before it is rebuilt from kd = 0 (round-off).
+SLOPE_REFRESH = 4096
+
+
+@jit_inline
+def straight_step(sl, cf, h, el, tr, du):
+    """Complete the linear step of a building whose every story goes straight on (the increment
+    short of each story's next turning point, :func:`pounding.stories.story_straight`): each force is
+    then affine in the step's drift, F1 = f0 + kd (δ1 − δ0), and the weighted equation gains
+    −Bᵀ(f0 + w kd (δ1 − δ0)). With δ_lin the linear step's drifts, the correction is
+
+    (J + w Bᵀ diag(kd) B) Δu = −Bᵀ r,  r = f0 + w kd (δ_lin − δ0),
+
+    so Δu = −Zᵀ r with the condensation Z of the stories on that tangent (kept in ``sl``, updated
+    by rank one when a story's slope changes): one product instead of the passes of
+    :func:`settle_elements`, exact to round-off. False when it does not apply (a story turned inside
+    the step, the map is unavailable or singular): the linear step is restored for the passes."""
+    n_el = el.kind.size
+    if n_el == 0 or sl.Z.shape[0] != n_el:
+        return False
+    w = cf.w
+    for e in range(n_el):
+        if el.state[e, SS_KT] - el.params[e, 0] != sl.kd[e]:
+            if not slopes_update(sl, el, w):
+                return False
+            break
+    n = tr.u1.size
+    for i in range(n):
+        du[i] = 0.0
+    for e in range(n_el):
+        d, _ = gather(el.dof, el.sign, e, tr.u1, tr.v1)
+        r = el.f0[e] + w * sl.kd[e] * (d - el.d0[e])
+        if r != 0.0:
+            for i in range(n):
+                du[i] -= sl.Z[e, i] * r
+    for i in range(n):
+        tr.u1[i] += du[i]
+        tr.a1[i] += cf.c0 * du[i]
+        tr.v1[i] += cf.c1 * du[i]
+    eval_elements_here(tr.u1, tr.v1, h, el)
+    for e in range(n_el):
+        if el.written[e]:  # a kernel took it: the story turned inside the step
+            for i in range(n):
+                tr.u1[i] -= du[i]
+                tr.a1[i] -= cf.c0 * du[i]
+                tr.v1[i] -= cf.c1 * du[i]
+            return False
+    return True
+
+
+@jit_internal
+def slopes_update(sl, el, w):
+    """Bring the stories' condensation ``sl`` to each story's slope ahead, kd = k_t − k, by rank-one
+    (Sherman–Morrison) updates: for a change Δ = w Δkd of story e,
+
+    Z ← Z − c s ⊗ Z[e],  S ← S − c s ⊗ s,  s = S[e] (before),  c = Δ/(1 + Δ S[e, e]),
+
+    rebuilt from kd = 0 every SLOPE_REFRESH updates. False when a tangent is singular along a story
+    (|1 + Δ S[e, e]| < 1e-9): the passes, then Newton, take such steps."""
+    n_el = el.kind.size
+    if sl.count[0] >= SLOPE_REFRESH:
+        for e in range(n_el):
+            sl.kd[e] = 0.0
+            for i in range(sl.Z.shape[1]):
+                sl.Z[e, i] = sl.Z0[e, i]
+            for f in range(n_el):
+                sl.S[e, f] = sl.S0[e, f]
+        sl.count[0] = 0
+    s = sl.s
+    for e in range(n_el):
+        kd = el.state[e, SS_KT] - el.params[e, 0]
+        delta = w * (kd - sl.kd[e])
+        if delta == 0.0:
+            continue
+        den = 1.0 + delta * sl.S[e, e]
+        if abs(den) < 1e-9:
+            sl.count[0] = SLOPE_REFRESH  # rebuilt from kd = 0 at the next call
+            return False
+        c = delta / den
+        for f in range(n_el):
+            s[f] = sl.S[e, f]
+        for f in range(n_el):
+            if f != e and s[f] != 0.0:
+                for i in range(sl.Z.shape[1]):
+                    sl.Z[f, i] -= c * s[f] * sl.Z[e, i]
+        for i in range(sl.Z.shape[1]):
+            sl.Z[e, i] -= c * s[e] * sl.Z[e, i]
+        for f in range(n_el):
+            for g in range(n_el):
+                sl.S[f, g] -= c * s[f] * s[g]
+        sl.kd[e] = kd
+        sl.count[0] += 1
+    return True
+
+
+@jit_setup
+def slopes_prepare(J_inv, el, straight):
+    """The stories' condensation on J⁻¹ at kd = 0 (see :func:`straight_step`); empty unless
+    ``straight`` (every element a story with straight branches) and J⁻¹ is at hand."""
+    n_el = el.kind.size
+    m = n_el if straight and J_inv.shape[0] > 0 else 0
+    n = J_inv.shape[0] if m > 0 else 0
+    Z0 = np.zeros((m, n))
+    S0 = np.zeros((m, m))
+    for e in range(m):
+        inverse_column(J_inv, el.dof, el.sign, e, Z0[e])
+    for e in range(m):
+        for f in range(m):
+            acc = 0.0
+            for r in range(el.dof.shape[1]):
+                j = el.dof[f, r]
+                if j >= 0:
+                    acc += el.sign[f, r] * Z0[e, j]
+            S0[e, f] = acc
+    return Slopes(
+        Z0.copy(), S0.copy(), Z0, S0, np.zeros(m), np.zeros(1, dtype=np.int64), np.zeros(m)
+    )
 
 
 @jit_inline
