@@ -16,7 +16,9 @@ Each model is a kernel of plain ``math``, compiled from the same source:
 
 with ``d`` = δ [m] at the end of the step, ``s0`` the committed state row (read) and ``s1`` the
 trial state row (written: the spring force F, δ and the work W = ∫F dδ [J], trapezoidal per step),
-``p`` = (k [N/m], F_y [N], model parameters...).
+``p`` = (k [N/m], F_y [N], model parameters...). The piecewise-linear models also write the next
+point ahead where the path may turn and the slope up to it: the compiled core takes a further
+increment short of it as a straight line without the kernel (:func:`story_straight`).
 
 Models (``stories.model``) and their parameters beyond ``yield_drift`` (δ_y/h) or ``yield_force``
 (F_y [N]):

@@ -274,7 +274,7 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
         else:
             linear_step_coulomb(md, fac_h, g_eff, cf, x0, fr, tr, wk)
         # (the element forces settled by passes of this step's solve are not Newton iterations)
-        if (not settle or straight_step(sl, cf, hs, el, tr, wk.vec[3])
+        if (not settle or straight_step(sl, cf, el, tr, wk.vec[3])
                 or settle_elements(md.bw, fac_h.J_inv, fac_h.L, fac_h.D, cf, hs, el, tr, wk.lin,
                                    wk.vec[3], opts.tol, opts.max_iter)):  # fmt: skip
             closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)

@@ -21,6 +21,7 @@ from pounding.integrators._coefficients import (
     tangent_band_into,
     tangent_dense,
 )
+from pounding.integrators._dispatch import story_straight
 from pounding.integrators._events import ground_at
 from pounding.integrators._families import (
     add_forces,
@@ -233,7 +234,7 @@ SLOPE_REFRESH = 4096
 
 
 @jit_inline
-def straight_step(sl, cf, h, el, tr, du):
+def straight_step(sl, cf, el, tr, du):
     """Complete the linear step of a building whose every story goes straight on (the increment
     short of each story's next turning point, :func:`pounding.stories.story_straight`): each force is
     then affine in the step's drift, F1 = f0 + kd (δ1 − δ0), and the weighted equation gains
@@ -267,14 +268,22 @@ def straight_step(sl, cf, h, el, tr, du):
         tr.u1[i] += du[i]
         tr.a1[i] += cf.c0 * du[i]
         tr.v1[i] += cf.c1 * du[i]
-    eval_elements_here(tr.u1, tr.v1, h, el)
+    # the straight increments alone (the kernels' dispatch is not compiled into the loop again)
     for e in range(n_el):
-        if el.written[e]:  # a kernel took it: the story turned inside the step
+        d, dd = gather(el.dof, el.sign, e, tr.u1, tr.v1)
+        straight, f, kd = story_straight(d, el.state, el.trial, el.params, e)
+        if not straight or el.written[e]:
+            # a story turned inside the step (or a kernel wrote its trial row in a try before)
             for i in range(n):
                 tr.u1[i] -= du[i]
                 tr.a1[i] -= cf.c0 * du[i]
                 tr.v1[i] -= cf.c1 * du[i]
             return False
+        el.d1[e] = d
+        el.dd1[e] = dd
+        el.f1[e] = f
+        el.kd[e] = kd
+        el.cd[e] = 0.0
     return True
 
 
