@@ -25,8 +25,6 @@ import numpy as np
 
 from pounding._numba import jit_inline, jit_internal
 from pounding.integrators._dispatch import (
-    BOUC_WEN_ID,
-    FAMILY_STORY,
     STRAIGHT_COLUMNS,
     bouc_wen_slide,
     contact_eval,
@@ -35,6 +33,7 @@ from pounding.integrators._dispatch import (
     element_stored,
     friction_eval,
     friction_hysteretic_eval,
+    has_straight,
     story_straight,
 )
 from pounding.integrators._layout import FS_DIR, FS_F1, FS_KF, FS_STUCK, FS_Z0, FS_Z1
@@ -166,7 +165,7 @@ def eval_elements_here(u1, v1, h, el):
         d, dd = gather(el.dof, el.sign, e, u1, v1)
         straight = False
         f = kd = cd = 0.0
-        if el.kind[e] == FAMILY_STORY and el.law[e] != BOUC_WEN_ID:
+        if has_straight(el.kind[e], el.law[e]):
             straight, f, kd = story_straight(d, el.state, el.trial, el.params, e)
             if straight and el.written[e]:
                 # the rest of the trial row is a kernel's from an earlier pass: the committed one

@@ -16,7 +16,6 @@ from pounding._numba import jit, jit_inline, jit_internal, jit_kernel  # noqa: F
 from pounding.integrators._coefficients import Coef, newmark_coefficients  # noqa: F401
 from pounding.integrators._dispatch import (  # noqa: F401
     BILINEAR_ID,
-    BOUC_WEN_ID,
     FAMILY_STORY,
     bilinear_rate,
     bouc_wen_rate,
@@ -28,6 +27,7 @@ from pounding.integrators._dispatch import (  # noqa: F401
     element_stored,
     friction_eval,
     friction_hysteretic_eval,
+    has_straight,
 )
 from pounding.integrators._events import first_drop, ground_at, hermite_root  # noqa: F401
 from pounding.integrators._families import eval_gaps, gap_openings
@@ -182,7 +182,7 @@ def _prepare(sy, sch, gaps, fr, el, h):
     # on is then one product (straight_step)
     straight = dense and fr.dof.size == 0 and el.kind.size > 0
     for e in range(el.kind.size):
-        straight = straight and el.kind[e] == FAMILY_STORY and el.law[e] != BOUC_WEN_ID
+        straight = straight and has_straight(el.kind[e], el.law[e])
     sl = slopes_prepare(fac_h.J_inv, el, straight)
     return md, fac_h, fac_c, fac_g, tr, wk, ls, sl
 
@@ -252,8 +252,8 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     then, if a gap closes, the step condensed onto the gaps (no friction, no element families) or
     Newton over every family. ``facs`` = the factors of the base step, of the contact step and of
     any other length (:func:`_step_any`), and the stories' condensation on the first
-    (:func:`straight_step`); ``off`` = (no gap held open, open gaps held open). Returns (ok, Newton iterations, hs: the
-    length taken)."""
+    (:func:`straight_step`); ``off`` = (no gap held open, open gaps held open). Returns (ok, Newton
+    iterations, hs: the length taken)."""
     fac_h, fac_c, fac_g, sl = facs
     none_off, open_off = off
     h = opts.h

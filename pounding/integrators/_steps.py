@@ -115,24 +115,21 @@ def linear_step(md, fac, g_eff, cf, x0, tr, lin):
     if fac.Q.shape[1] == tr.u1.size:
         dense_step(fac.Q, fac.pg, g_eff, cf, x0, (tr.u1, tr.v1, tr.a1))
         return
-    linear_step_on(md.Mi, md.Mb, md.Cb, md.Kb, md.bw, fac.L, fac.D, fac.Q, fac.pg, g_eff, cf, x0,
+    linear_step_on(md.Mi, md.Mb, md.Cb, md.Kb, md.bw, fac.L, fac.D, g_eff, cf, x0,
                    (tr.u1, tr.v1, tr.a1), lin)  # fmt: skip
 
 
 @jit_internal
-def linear_step_on(Mi, Mb, Cb, Kb, bw, L, D, Q, pg, g_eff, cf, x0, x1, lin):
+def linear_step_on(Mi, Mb, Cb, Kb, bw, L, D, g_eff, cf, x0, x1, lin):
     """One Newmark/HHT step of the linear system (no change of element force), for the increment:
 
     J Δu = M(c2 v + c3 a) + C((w c4 + α) v + w c5 a) − K u − M ι g_eff,  J = c0 M + w(c1 C + K),
 
     from the weighted equation M a1 + w(C v1 + K u1) − α(C v + K u) = −M ι g_eff (w = 1 + α) and the
-    Newmark relations; x1 = the end's (u1, v1, a1). The dense map (Q, pg) for small systems; else
-    band products (Mi = M ι, band rows Mb, Cb, Kb of width bw) and the band factors (L, D) of J:
-    O(n bw) per step, and the increment keeps its digits at small steps."""
+    Newmark relations; x1 = the end's (u1, v1, a1). Band products (Mi = M ι, band rows Mb, Cb, Kb
+    of width bw) and the band factors (L, D) of J: O(n bw) per step, and the increment keeps its
+    digits at small steps (small systems take the dense map, :func:`linear_step`)."""
     u, v, a = x0
-    if Q.shape[1] == u.size:
-        dense_step(Q, pg, g_eff, cf, x0, x1)
-        return
     u1, v1, a1 = x1
     n = u.size
     p, q, rhs, du = lin
@@ -346,16 +343,9 @@ def slopes_prepare(J_inv, el, straight):
     n = J_inv.shape[0] if m > 0 else 0
     Z0 = np.zeros((m, n))
     S0 = np.zeros((m, m))
-    for e in range(m):
-        inverse_column(J_inv, el.dof, el.sign, e, Z0[e])
-    for e in range(m):
-        for f in range(m):
-            acc = 0.0
-            for r in range(el.dof.shape[1]):
-                j = el.dof[f, r]
-                if j >= 0:
-                    acc += el.sign[f, r] * Z0[e, j]
-            S0[e, f] = acc
+    if m > 0:
+        # the stories' rows condensed as the gaps' are
+        condense_map(J_inv, el.dof, el.sign, Z0, S0, np.zeros((m, 3), dtype=np.int64))
     return Slopes(
         Z0.copy(), S0.copy(), Z0, S0, np.zeros(m), np.zeros(1, dtype=np.int64), np.zeros(m)
     )
