@@ -293,6 +293,55 @@ def make_bouc_wen_story_kernel(rate):
 
 bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_rate)
 
+#: A Bouc–Wen drift this close to the story's trial drift, as a fraction of δ_y, continues that
+#: trial along its rate (:func:`make_bouc_wen_story_near`): the terms dropped are of order
+#: (Δ/δ_y)² ≤ 1e-16 of ζ.
+BW_NEAR = 1e-8
+
+
+def make_bouc_wen_story_near(rate):
+    """The Bouc–Wen story's re-evaluation near its trial drift on a given ``rate`` (plain or
+    compiled, as :func:`make_bouc_wen_story_kernel`)."""
+
+    def bouc_wen_story_near(d, s0, s1, p):
+        """A Bouc–Wen story at drift ``d`` [m] within BW_NEAR δ_y of the trial drift in ``s1``,
+        which the kernel wrote from the committed ``s0`` in one sub-step: ζ and ε continue that
+        trial along their rates, ζ = ζ_t + (Δ/δ_y) dζ/dx, ε = ε_t + (Δ/δ_y)(1 − α) ζ_t, and F, the
+        work, E and the tangent follow as in the kernel. Returns (True, F − k δ, k_t − k) then,
+        what the kernel gives from ``s0`` to round-off; (False, 0, 0) otherwise (the kernel takes
+        it). A pass of the fixed-point step re-evaluates each story by a correction of round-off
+        size: this skips its RK4 stages."""
+        k, fy, alpha = p[0], p[1], p[2]
+        dy = fy / k
+        dx = d - s0[SS_D]
+        sgn = 1.0 if dx >= 0.0 else -1.0
+        x = (d - s1[SS_D]) / dy
+        if not (
+            abs(x) <= BW_NEAR
+            and s1[SS_G_DIR] == sgn
+            and abs(dx) <= BW_STEP * dy
+            and abs(s1[SS_D] - s0[SS_D]) <= BW_STEP * dy
+        ):
+            return False, 0.0, 0.0
+        c = 1.0 - alpha
+        z = s1[SS_Z] + x * s1[SS_G]
+        eps = s1[SS_EPS] + x * c * s1[SS_Z]
+        g = rate(z, eps, sgn, p)
+        f = alpha * k * d + c * fy * z
+        s1[SS_F] = f
+        s1[SS_D] = d
+        s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
+        s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * dy * z * z
+        s1[SS_Z] = z
+        s1[SS_EPS] = eps
+        s1[SS_G] = g
+        return True, f - k * d, k * (alpha + c * g) - k
+
+    return bouc_wen_story_near
+
+
+bouc_wen_story_near = make_bouc_wen_story_near(bouc_wen_story_rate)
+
 
 def takeda_story_kernel(d, dd, h, s0, s1, p):
     """Modified Takeda peak-oriented story [6]_, [7]_ on a bilinear backbone (hardening b = p[2],

@@ -18,6 +18,7 @@ from pounding.integrators._families import eval_elements
 from pounding.integrators._steps import SLOPE_REFRESH, slopes_prepare, slopes_update
 from pounding.simulate import AnalysisOptions, run
 from pounding.stories import (
+    BW_NEAR,
     FAMILY_STORY,
     N_STORY_PARAMS,
     N_STORY_STATE,
@@ -27,6 +28,7 @@ from pounding.stories import (
     SS_WX,
     STORY_MODELS,
     Stories,
+    bouc_wen_story_near,
     story_straight,
 )
 from pounding.structure import ShearBuilding
@@ -110,6 +112,54 @@ def test_bouc_wen_has_no_straight_branch():
         s0[:] = s1
 
 
+#: Bouc–Wen parameter rows (α, n, β, γ, A0, δ_A, δ_ν, δ_η, ζ_s, p, q, ψ, δ_ψ, λ): the default
+#: (n = 2), a non-integer n without degradation, and degradation with pinching.
+_BOUC_WEN = {
+    "n2": (0.05, 2.0, 0.5, 0.5, 1.0),
+    "n1.4": (0.05, 1.4, 0.6, 0.4, 1.0),
+    "degrading_pinched": (0.05, 2.0, 0.5, 0.5, 1.0, 0.1, 0.1, 0.1, 0.6, 1.0, 0.1, 0.2, 0.01, 0.1),
+}
+
+
+#: Units of a Bouc–Wen row: F [N], δ [m], W and E [J], then ζ, ε, dζ/dx and the direction.
+_BW_SCALE = np.ones(N_STORY_STATE)
+_BW_SCALE[:4] = FY, DY, FY * DY, FY * DY
+
+
+@pytest.mark.parametrize("case", list(_BOUC_WEN))
+def test_a_bouc_wen_story_a_round_off_from_its_trial_equals_the_kernel(case):
+    # the fixed-point passes re-evaluate a story at its trial drift moved by a correction of
+    # round-off size: continuing the trial along its rates gives the kernel's whole row from the
+    # committed state, to round-off
+    kernel = STORY_MODELS["bouc_wen"].kernel
+    p = _params(*_BOUC_WEN[case])
+    s0, s1, near, again = (np.zeros(N_STORY_STATE) for _ in range(4))
+    rng = np.random.default_rng(3)
+    taken = 0
+    for d in piecewise(_HAND, DY, 300)[0]:  # steps of ~0.01 δ_y, and a few turns
+        kernel(d, 0.0, 0.01, s0, s1, p)
+        for x in (1e-12, -3e-10, 0.9 * BW_NEAR, -0.9 * BW_NEAR, rng.uniform(-1.0, 1.0) * BW_NEAR):
+            near[:] = s1
+            d2 = d + x * DY
+            done, g, kd = bouc_wen_story_near(d2, s0, near, p)
+            if abs(d - s0[1]) > 0.02 * DY or (d2 - s0[1]) * (d - s0[1]) <= 0.0:
+                assert not done  # the kernel took sub-steps, or the increment turned
+                continue
+            taken += 1
+            assert done
+            got = kernel(d2, 0.0, 0.01, s0, again, p)
+            assert g == pytest.approx(got[0], rel=1e-12, abs=1e-12 * FY)
+            assert kd == pytest.approx(got[1], rel=1e-12, abs=1e-12 * K)
+            assert np.all(np.abs(near - again) <= 1e-12 * (_BW_SCALE + np.abs(again)))
+        near[:] = s1
+        assert not bouc_wen_story_near(d + 2.0 * BW_NEAR * DY, s0, near, p)[0]
+        s0[:] = s1
+    assert taken > 1000
+    # a turn a round-off away: the trial a hair ahead of the committed drift, then a hair behind
+    kernel(s0[1] + 0.5 * BW_NEAR * DY, 0.0, 0.01, s0, s1, p)
+    assert not bouc_wen_story_near(s0[1] - 0.4 * BW_NEAR * DY, s0, s1, p)[0]
+
+
 def _elements(model: str, extra: tuple) -> kn.Elements:
     """One story between the ground and dof 0."""
     z = np.zeros(1)
@@ -151,6 +201,24 @@ def test_a_straight_pass_after_a_kernel_pass_starts_from_the_committed_state(cas
     expected = committed[None, :].copy()
     story_straight(short, committed[None, :], expected, el.params, 0)
     np.testing.assert_array_equal(el.trial[0], expected[0])
+
+
+def test_a_bouc_wen_pass_a_round_off_after_a_kernel_pass_continues_its_trial():
+    el = _elements("bouc_wen", _BOUC_WEN["n2"])
+    v = np.zeros(1)
+    for d in piecewise([3.0, 1.0], DY, 20)[0]:
+        _eval(np.array([d]), v, 0.01, el)
+        _commit(el)
+    committed = el.state[0].copy()
+    d = committed[1] - 0.01 * DY
+    _eval(np.array([d]), v, 0.01, el)
+    first = el.trial[0].copy()
+    _eval(np.array([d + 1e-3 * BW_NEAR * DY]), v, 0.01, el)
+    expected = np.zeros(N_STORY_STATE)
+    STORY_MODELS["bouc_wen"].kernel(d + 1e-3 * BW_NEAR * DY, 0.0, 0.01, committed, expected,
+                                     el.params[0])  # fmt: skip
+    assert el.trial[0, 0] != first[0]
+    np.testing.assert_allclose(el.trial[0], expected, rtol=1e-13, atol=1e-13 * FY * DY)
 
 
 @pytest.mark.parametrize("model", ["bilinear", "takeda", "imk"])

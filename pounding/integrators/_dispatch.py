@@ -154,6 +154,8 @@ _bilinear_story = jit(_stories.bilinear_story_kernel)
 # the rate inlined: five calls per drift increment in a dependent chain
 bouc_wen_story_rate = jit_inline(_stories.bouc_wen_story_rate)
 _bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_rate))
+# inlined into the element loop: a pass re-evaluates each story a round-off away
+bouc_wen_story_near = jit_inline(_stories.make_bouc_wen_story_near(bouc_wen_story_rate))
 _takeda_story = jit(_stories.takeda_story_kernel)
 _imk_story = jit(_stories.imk_story_kernel)
 _story_stored = jit(_stories.story_stored)
@@ -174,6 +176,13 @@ def has_straight(kind, law):
     """True for an element whose law has straight branches (:func:`story_straight` may take its
     increments): every story model but Bouc–Wen, which is smooth (testing it costs its steps 10 %)."""
     return kind == FAMILY_STORY and law != _BOUC_WEN
+
+
+@jit_inline
+def has_near(kind, law):
+    """True for an element whose law continues a trial a round-off away (Bouc–Wen stories,
+    :func:`bouc_wen_story_near`)."""
+    return kind == FAMILY_STORY and law == _BOUC_WEN
 
 
 @jit_inline

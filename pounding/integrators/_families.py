@@ -27,12 +27,14 @@ from pounding._numba import jit_inline, jit_internal
 from pounding.integrators._dispatch import (
     STRAIGHT_COLUMNS,
     bouc_wen_slide,
+    bouc_wen_story_near,
     contact_eval,
     element_eval,
     element_failed,
     element_stored,
     friction_eval,
     friction_hysteretic_eval,
+    has_near,
     has_straight,
     story_straight,
 )
@@ -160,20 +162,24 @@ def eval_elements(u1, v1, h, el):
 def eval_elements_here(u1, v1, h, el):
     """:func:`eval_elements` inlined into its caller: the fixed-point passes of every base step
     call it, and a call boundary passing the element group costs them ~8 %. A story increment
-    that goes straight on (:func:`pounding.stories.story_straight`) skips its model's kernel."""
+    that goes straight on (:func:`pounding.stories.story_straight`) skips its model's kernel, and
+    so does a Bouc–Wen story re-evaluated a round-off from its trial
+    (:func:`pounding.stories.make_bouc_wen_story_near`)."""
     for e in range(el.kind.size):
         d, dd = gather(el.dof, el.sign, e, u1, v1)
-        straight = False
+        done = False
         f = kd = cd = 0.0
         if has_straight(el.kind[e], el.law[e]):
-            straight, f, kd = story_straight(d, el.state, el.trial, el.params, e)
-            if straight and el.written[e]:
+            done, f, kd = story_straight(d, el.state, el.trial, el.params, e)
+            if done and el.written[e]:
                 # the rest of the trial row is a kernel's from an earlier pass: the committed one
                 for j in range(el.state.shape[1]):
                     el.trial[e, j] = el.state[e, j]
                 story_straight(d, el.state, el.trial, el.params, e)
                 el.written[e] = False
-        if not straight:
+        elif el.written[e] and has_near(el.kind[e], el.law[e]):
+            done, f, kd = bouc_wen_story_near(d, el.state[e], el.trial[e], el.params[e])
+        if not done:
             f, kd, cd = element_eval(
                 el.kind[e], el.law[e], d, dd, h, el.state[e], el.trial[e], el.params[e]
             )
