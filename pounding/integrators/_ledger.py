@@ -98,13 +98,22 @@ def account_energy(md, hs, g0, g1, x0, tr, gaps, fr, el, en, wk):
         work += du[i] * md.Mi[i]
     en[EN_INPUT] -= work * g_avg
     en[EN_DAMP] += 0.5 * _band_bilinear(md.CbT, md.bw, du, vs)
+    work = 0.0
     for c in range(gaps.gap.size):
-        en[EN_CONTACT] += 0.5 * (gaps.f0[c] + tr.f1[c]) * (tr.d1[c] - gaps.d0[c])
+        work += 0.5 * (gaps.f0[c] + tr.f1[c]) * (tr.d1[c] - gaps.d0[c])
+    en[EN_CONTACT] += work
     for k in range(fr.dof.size):
         b = fr.dof[k]
         en[EN_FRICTION] += 0.5 * (fr.state[k, FS_F0] + fr.state[k, FS_F1]) * (tr.u1[b] - u[b])
+    links = stories = 0.0
     for e in range(el.kind.size):
-        en[EN_ELEMENTS + el.kind[e]] += 0.5 * (el.f0[e] + el.f1[e]) * (el.d1[e] - el.d0[e])
+        work = 0.5 * (el.f0[e] + el.f1[e]) * (el.d1[e] - el.d0[e])
+        if el.kind[e] == FAMILY_STORY:
+            stories += work
+        else:
+            links += work
+    en[EN_ELEMENTS + FAMILY_LINK] += links
+    en[EN_ELEMENTS + FAMILY_STORY] += stories
 
 
 @jit_internal

@@ -46,31 +46,33 @@ def _band_matvec_add(Ab, bw, x, scale, out):
 
 @jit
 def _band_quadratic(AbT, bw, x):
-    """xᵀ A x for A given by its diagonals, ``AbT`` = band rows transposed ((2 bw + 1) × n,
-    contiguous), one diagonal at a time: each a unit-stride loop the compiler vectorises (row-wise
-    loops with clipped bounds cost several times more at these sizes)."""
-    n = AbT.shape[1]  # A's order, not the vector's length (a scratch row may be longer)
-    total = 0.0
-    for k in range(2 * bw + 1):
-        off = k - bw
-        acc = 0.0
-        for i in range(max(0, -off), min(n, n - off)):
-            acc += AbT[k, i] * x[i] * x[i + off]
-        total += acc
-    return total
+    """xᵀ A x for A given by its diagonals (:func:`_band_bilinear`)."""
+    return _band_bilinear(AbT, bw, x, x)
 
 
 @jit_inline
 def _band_bilinear(AbT, bw, x, y):
-    """xᵀ A y for A given by its diagonals (as :func:`_band_quadratic`)."""
-    n = AbT.shape[1]
+    """xᵀ A y for A given by its diagonals, ``AbT`` = band rows transposed ((2 bw + 1) × n,
+    contiguous), one diagonal at a time (row-wise loops with clipped bounds cost several times
+    more at these sizes), each in four partial sums: one sum is a chain of dependent additions,
+    which the compiler may not reorder."""
+    n = AbT.shape[1]  # A's order, not the vector's length (a scratch row may be longer)
     total = 0.0
     for k in range(2 * bw + 1):
         off = k - bw
-        acc = 0.0
-        for i in range(max(0, -off), min(n, n - off)):
-            acc += AbT[k, i] * x[i] * y[i + off]
-        total += acc
+        hi = min(n, n - off)
+        i = max(0, -off)
+        a0 = a1 = a2 = a3 = 0.0
+        while i + 4 <= hi:
+            a0 += AbT[k, i] * x[i] * y[i + off]
+            a1 += AbT[k, i + 1] * x[i + 1] * y[i + 1 + off]
+            a2 += AbT[k, i + 2] * x[i + 2] * y[i + 2 + off]
+            a3 += AbT[k, i + 3] * x[i + 3] * y[i + 3 + off]
+            i += 4
+        while i < hi:
+            a0 += AbT[k, i] * x[i] * y[i + off]
+            i += 1
+        total += (a0 + a1) + (a2 + a3)
     return total
 
 
