@@ -294,11 +294,12 @@ def commit_elements(el):
             for j in range(el.state.shape[1]):
                 el.state[e, j] = el.trial[e, j]
             el.written[e] = False
+            # (a straight increment leaves a story as it was: failure is a kernel's)
+            if element_failed(el.kind[e], el.law[e], el.state[e]):
+                failed = True
         else:  # a straight story increment
             for j in STRAIGHT_COLUMNS:
                 el.state[e, j] = el.trial[e, j]
-        if element_failed(el.kind[e], el.law[e], el.state[e]):
-            failed = True
     return failed
 
 
