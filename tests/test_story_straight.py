@@ -271,7 +271,8 @@ def _update(sl, el, w):
 
 @numba.njit
 def _prepare_slopes(J_inv, el):
-    return slopes_prepare(J_inv, el, True)
+    n = J_inv.shape[0]
+    return slopes_prepare(J_inv, np.zeros((3 * n, n)), np.zeros(n), el, True)
 
 
 def test_rank_one_updates_of_the_stories_condensation_equal_the_inverse_of_the_tangent():

@@ -284,13 +284,15 @@ def add_row_tangent(x_dof, x_sign, kc, J):
 
 @jit_inline
 def commit_elements(el):
-    """Accept the trial state of every family element as the start of the next step; True when an
-    element has spent its capacity (:func:`element_failed`)."""
-    failed = False
+    """Accept the trial state of every family element as the start of the next step. Returns
+    (failed, written): an element has spent its capacity (:func:`element_failed`); a kernel wrote
+    a row (not only straight story increments)."""
+    failed = written = False
     for e in range(el.kind.size):
         el.d0[e] = el.d1[e]
         el.f0[e] = el.f1[e]
         if el.written[e]:
+            written = True
             for j in range(el.state.shape[1]):
                 el.state[e, j] = el.trial[e, j]
             el.written[e] = False
@@ -300,7 +302,7 @@ def commit_elements(el):
         else:  # a straight story increment
             for j in STRAIGHT_COLUMNS:
                 el.state[e, j] = el.trial[e, j]
-    return failed
+    return failed, written
 
 
 @jit_internal

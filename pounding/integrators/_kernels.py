@@ -183,7 +183,7 @@ def _prepare(sy, sch, gaps, fr, el, h):
     straight = dense and fr.dof.size == 0 and el.kind.size > 0
     for e in range(el.kind.size):
         straight = straight and has_straight(el.kind[e], el.law[e])
-    sl = slopes_prepare(fac_h.J_inv, el, straight)
+    sl = slopes_prepare(fac_h.J_inv, fac_h.Q, fac_h.pg, el, straight)
     return md, fac_h, fac_c, fac_g, tr, wk, ls, sl
 
 
@@ -269,12 +269,15 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
         # open gaps, Coulomb slabs stuck or sliding, element families: the exact linear step
         cf = newmark_coefficients(hs, sch)
         g_eff = cf.w * ground_at(md.ag, md.ag_dt, t + hs) - cf.alpha * g_start
-        if n_fr == 0:
-            linear_step(md, fac_h, g_eff, cf, x0, tr, wk.lin)
-        else:
+        straight = False
+        if n_fr > 0:
             linear_step_coulomb(md, fac_h, g_eff, cf, x0, fr, tr, wk)
+        else:
+            straight = settle and straight_step(sl, g_eff, cf, x0, el, tr)
+            if not straight:
+                linear_step(md, fac_h, g_eff, cf, x0, tr, wk.lin)
         # (the element forces settled by passes of this step's solve are not Newton iterations)
-        if (not settle or straight_step(sl, cf, el, tr, wk.vec[3])
+        if (straight or not settle
                 or settle_elements(md.bw, fac_h.J_inv, fac_h.L, fac_h.D, cf, hs, el, tr, wk.lin,
                                    wk.vec[3], opts.tol, opts.max_iter)):  # fmt: skip
             closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)
@@ -608,6 +611,7 @@ def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every
     h = opts.h
     counters = out.counters
     fac_h = facs[0]
+    sl = facs[3]
     ctl = ls.ctl
     en = ls.en
     x0 = (ls.u, ls.v, ls.a)
@@ -683,7 +687,8 @@ def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every
                 if algorithmic:
                     residual(md, g1, tr.u1, tr.v1, tr.a1, gaps, tr.f1, fr, el, ls.r0)
             # accept
-            accept(g1, md, x0, tr, gaps, fr, el, out)
+            if accept(g1, md, x0, tr, gaps, fr, el, out):
+                sl.count[1] = 1  # a kernel committed: the straight map is built again
             t = t + hs
             ctl[CT_GSTART] = g1
             if counters[CNT_STATUS] == STATUS_COLLAPSE:

@@ -228,7 +228,7 @@ def log_impacts(t, hs, tr, gaps, wk, opts, out):
 @jit_inline
 def accept(g1, md, x0, tr, gaps, fr, el, out):
     """The trial end becomes the step start (the element families commit their trial state);
-    peaks are updated."""
+    peaks are updated. True when a kernel wrote an element's committed state (:func:`commit_elements`)."""
     u, v, a = x0
     for i in range(u.size):
         u[i] = tr.u1[i]
@@ -266,8 +266,10 @@ def accept(g1, md, x0, tr, gaps, fr, el, out):
         # column 0 of a family's state is the force it reports (a story: its spring force)
         if abs(el.trial[j, 0]) > out.peak_lf[j]:
             out.peak_lf[j] = abs(el.trial[j, 0])
-    if commit_elements(el):  # a story failed: its building has collapsed
+    failed, written = commit_elements(el)
+    if failed:  # a story failed: its building has collapsed
         out.counters[CNT_STATUS] = STATUS_COLLAPSE
+    return written
 
 
 @jit_internal

@@ -236,56 +236,93 @@ SLOPE_REFRESH = 4096
 
 
 @jit_inline
-def straight_step(sl, cf, el, tr, du):
-    """Complete the linear step of a building whose every story goes straight on (the increment
-    short of each story's next turning point, :func:`pounding.stories.story_straight`): each force is
-    then affine in the step's drift, F1 = f0 + kd (δ1 − δ0), and the weighted equation gains
-    −Bᵀ(f0 + w kd (δ1 − δ0)). With δ_lin the linear step's drifts, the correction is
-
-    (J + w Bᵀ diag(kd) B) Δu = −Bᵀ r,  r = f0 + w kd (δ_lin − δ0),
-
-    so Δu = −Zᵀ r with the condensation Z of the stories on that tangent (kept in ``sl``, updated
-    by rank one when a story's slope changes): one product instead of the passes of
-    :func:`settle_elements`, exact to round-off. False when it does not apply (a story turned inside
-    the step, the map is unavailable or singular): the linear step is restored for the passes."""
+def straight_step(sl, g_eff, cf, x0, el, tr):
+    """The step of a building whose every story goes straight on (the increment short of each
+    story's next turning point, :func:`pounding.stories.story_straight`): each story force is then
+    affine in its drift, g = c + kd δ (g = F − k δ, kd = k_t − k, c constant on the branch), and
+    the weighted equation is that of a linear system with K + Bᵀ diag(kd) B and the load −Bᵀ c.
+    Its dense map (:func:`straight_map`, rebuilt when a kernel commits) takes the step in one
+    product, as the elastic step: no passes, exact to round-off. False when it does not apply (a
+    story turned inside the step, the map is unavailable or singular): the caller takes the
+    linear step and the passes."""
     n_el = el.kind.size
     if n_el == 0 or sl.Z.shape[0] != n_el:
         return False
-    w = cf.w
-    for e in range(n_el):
-        if el.state[e, SS_KT] - el.params[e, 0] != sl.kd[e]:
-            if not slopes_update(sl, el, w):
-                return False
-            break
-    n = tr.u1.size
+    if sl.count[1] != 0:  # a kernel committed since the map was built
+        if not straight_map(sl, el, cf.w, cf.alpha):
+            return False
+    u, v, a = x0
+    n = u.size
     for i in range(n):
-        du[i] = 0.0
-    for e in range(n_el):
-        d, _ = gather(el.dof, el.sign, e, tr.u1, tr.v1)
-        r = el.f0[e] + w * sl.kd[e] * (d - el.d0[e])
-        if r != 0.0:
-            for i in range(n):
-                du[i] -= sl.Z[e, i] * r
-    for i in range(n):
-        tr.u1[i] += du[i]
-        tr.a1[i] += cf.c0 * du[i]
-        tr.v1[i] += cf.c1 * du[i]
+        tr.u1[i] = sl.pg[i] * g_eff + sl.p0[i]
+    for j in range(n):
+        uj = u[j]
+        vj = v[j]
+        aj = a[j]
+        for i in range(n):
+            tr.u1[i] += sl.Q[j, i] * uj + sl.Q[n + j, i] * vj + sl.Q[2 * n + j, i] * aj
+    end_of_step(cf, u, v, a, tr.u1, tr.v1, tr.a1)
     # the straight increments alone (the kernels' dispatch is not compiled into the loop again)
     for e in range(n_el):
         d, dd = gather(el.dof, el.sign, e, tr.u1, tr.v1)
         straight, f, kd = story_straight(d, el.state, el.trial, el.params, e)
         if not straight or el.written[e]:
-            # a story turned inside the step (or a kernel wrote its trial row in a try before)
-            for i in range(n):
-                tr.u1[i] -= du[i]
-                tr.a1[i] -= cf.c0 * du[i]
-                tr.v1[i] -= cf.c1 * du[i]
-            return False
+            return False  # a story turned inside the step (or a kernel wrote its row before)
         el.d1[e] = d
         el.dd1[e] = dd
         el.f1[e] = f
         el.kd[e] = kd
         el.cd[e] = 0.0
+    return True
+
+
+@jit_internal
+def straight_map(sl, el, w, alpha):
+    """The dense map of a step in which every story goes straight on, from the linear system's
+    (Qᵀ, p) and the stories' condensation on their slopes (:func:`slopes_update`). With δ_lin the
+    linear step's drifts, the stories' correction is Δu = −Zᵀ r, r = f0 + w kd (δ_lin − δ0) and
+    f0 = c + kd δ0, so
+
+    u1 = Qᵀx + p g − Zᵀ c + α Zᵀ diag(kd) B u − w Zᵀ diag(kd) (B Qᵀ x + B p g),
+
+    x = [u; v; a]: one map Qsᵀ, ps and the constant p0 = −Zᵀ c, built over the stories off their
+    elastic slope (n × 3n products each). False when a tangent is singular along a story."""
+    n_el = el.kind.size
+    for e in range(n_el):
+        if el.state[e, SS_KT] - el.params[e, 0] != sl.kd[e]:
+            if not slopes_update(sl, el, w):
+                return False
+            break
+    sl.count[1] = 0
+    n = sl.Z.shape[1]
+    for j in range(3 * n):
+        for i in range(n):
+            sl.Q[j, i] = sl.Q0[j, i]
+    for i in range(n):
+        sl.pg[i] = sl.pg0[i]
+        sl.p0[i] = 0.0
+    for e in range(n_el):
+        c = el.f0[e] - sl.kd[e] * el.d0[e]
+        if c != 0.0:
+            for i in range(n):
+                sl.p0[i] -= sl.Z[e, i] * c
+        kd = sl.kd[e]
+        if kd == 0.0:
+            continue
+        for j in range(3 * n):
+            t = w * kd * sl.BQ[e, j]
+            if t != 0.0:
+                for i in range(n):
+                    sl.Q[j, i] -= sl.Z[e, i] * t
+        t = w * kd * sl.BQ[e, 3 * n]
+        for i in range(n):
+            sl.pg[i] -= sl.Z[e, i] * t
+        for s in range(el.dof.shape[1]):
+            j = el.dof[e, s]
+            if j >= 0:
+                t = alpha * kd * el.sign[e, s]
+                for i in range(n):
+                    sl.Q[j, i] += sl.Z[e, i] * t
     return True
 
 
@@ -335,20 +372,30 @@ def slopes_update(sl, el, w):
 
 
 @jit_setup
-def slopes_prepare(J_inv, el, straight):
-    """The stories' condensation on J⁻¹ at kd = 0 (see :func:`straight_step`); empty unless
-    ``straight`` (every element a story with straight branches) and J⁻¹ is at hand."""
+def slopes_prepare(J_inv, Q, pg, el, straight):
+    """The stories' condensation on J⁻¹ at kd = 0 and the map of their straight steps (see
+    :func:`straight_step`) from the linear system's dense map (Qᵀ, p); empty unless ``straight``
+    (every element a story with straight branches) and J⁻¹ is at hand."""
     n_el = el.kind.size
     m = n_el if straight and J_inv.shape[0] > 0 else 0
     n = J_inv.shape[0] if m > 0 else 0
     Z0 = np.zeros((m, n))
     S0 = np.zeros((m, m))
+    BQ = np.zeros((m, 3 * n + 1))  # the drifts of the linear step: B Qᵀ, then B p
     if m > 0:
         # the stories' rows condensed as the gaps' are
         condense_map(J_inv, el.dof, el.sign, Z0, S0, np.zeros((m, 3), dtype=np.int64))
-    return Slopes(
-        Z0.copy(), S0.copy(), Z0, S0, np.zeros(m), np.zeros(1, dtype=np.int64), np.zeros(m)
-    )
+        for e in range(m):
+            for s in range(el.dof.shape[1]):
+                i = el.dof[e, s]
+                if i >= 0:
+                    for j in range(3 * n):
+                        BQ[e, j] += el.sign[e, s] * Q[j, i]
+                    BQ[e, 3 * n] += el.sign[e, s] * pg[i]
+    Q0 = Q[: 3 * n, :n].copy()
+    pg0 = pg[:n].copy()
+    return Slopes(Z0.copy(), S0.copy(), Z0, S0, np.zeros(m), np.array([0, 1]), np.zeros(m),
+                  Q0.copy(), pg0.copy(), np.zeros(n), Q0, pg0, BQ)  # fmt: skip
 
 
 @jit_inline
