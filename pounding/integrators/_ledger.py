@@ -228,7 +228,8 @@ def log_impacts(t, hs, tr, gaps, wk, opts, out):
 @jit_inline
 def accept(g1, md, x0, tr, gaps, fr, el, out):
     """The trial end becomes the step start (the element families commit their trial state);
-    peaks are updated. True when a kernel wrote an element's committed state (:func:`commit_elements`)."""
+    peaks are updated. True when a kernel wrote an element's committed state
+    (:func:`commit_elements`)."""
     u, v, a = x0
     for i in range(u.size):
         u[i] = tr.u1[i]

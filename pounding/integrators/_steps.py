@@ -251,17 +251,11 @@ def straight_step(sl, g_eff, cf, x0, el, tr):
     if sl.count[1] != 0:  # a kernel committed since the map was built
         if not straight_map(sl, el, cf.w, cf.alpha):
             return False
-    u, v, a = x0
-    n = u.size
-    for i in range(n):
-        tr.u1[i] = sl.pg[i] * g_eff + sl.p0[i]
-    for j in range(n):
-        uj = u[j]
-        vj = v[j]
-        aj = a[j]
-        for i in range(n):
-            tr.u1[i] += sl.Q[j, i] * uj + sl.Q[n + j, i] * vj + sl.Q[2 * n + j, i] * aj
-    end_of_step(cf, u, v, a, tr.u1, tr.v1, tr.a1)
+    dense_step(sl.Q, sl.pg, g_eff, cf, x0, (tr.u1, tr.v1, tr.a1))
+    for i in range(tr.u1.size):  # the constant load's part (v1, a1 are linear in u1)
+        tr.u1[i] += sl.p0[i]
+        tr.a1[i] += cf.c0 * sl.p0[i]
+        tr.v1[i] += cf.c1 * sl.p0[i]
     # the straight increments alone (the kernels' dispatch is not compiled into the loop again)
     for e in range(n_el):
         d, dd = gather(el.dof, el.sign, e, tr.u1, tr.v1)
