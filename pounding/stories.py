@@ -240,9 +240,28 @@ def bouc_wen_story_rate(z, eps, sgn, p):
     return g
 
 
-def make_bouc_wen_story_kernel(rate):
-    """The Bouc–Wen story kernel on a given ``rate`` (:func:`bouc_wen_story_rate`, plain or
-    compiled: numba compiles the kernel with its rate as a constant)."""
+def bouc_wen_story_finish(d, dx, z, eps, g, sgn, s0, s1, p):
+    """The end of a Bouc–Wen increment dx [m] to drift d at (ζ, ε) with rate g in direction sgn:
+    F = α k δ + (1 − α) F_y ζ, its work and recoverable energy written into ``s1`` (from the
+    committed ``s0``); returns (F − k δ, k_t − k), k_t = α k + (1 − α) k δ_y dζ/dx."""
+    k, fy, alpha = p[0], p[1], p[2]
+    c = 1.0 - alpha
+    f = alpha * k * d + c * fy * z
+    s1[SS_F] = f
+    s1[SS_D] = d
+    s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
+    s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * (fy / k) * z * z
+    s1[SS_Z] = z
+    s1[SS_EPS] = eps
+    s1[SS_G] = g
+    s1[SS_G_DIR] = sgn
+    return f - k * d, k * (alpha + c * g) - k
+
+
+def make_bouc_wen_story_kernel(rate, finish):
+    """The Bouc–Wen story kernel on a given ``rate`` and ``finish`` (:func:`bouc_wen_story_rate`,
+    :func:`bouc_wen_story_finish`, plain or compiled: numba compiles the kernel with them as
+    constants)."""
 
     def bouc_wen_story_kernel(d, dd, h, s0, s1, p):
         """Bouc–Wen story [4]_, [5]_, [8]_: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the
@@ -276,22 +295,13 @@ def make_bouc_wen_story_kernel(rate):
             g4 = rate(z4, eps + hx * c * z3, sgn, p)
             eps += h6 * c * (z + 2.0 * z2 + 2.0 * z3 + z4)
             z += h6 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
-        g = rate(z, eps, sgn, p)
-        f = alpha * k * d + c * fy * z
-        s1[SS_F] = f
-        s1[SS_D] = d
-        s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
-        s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * dy * z * z
-        s1[SS_Z] = z
-        s1[SS_EPS] = eps
-        s1[SS_G] = g
-        s1[SS_G_DIR] = sgn
-        return f - k * d, k * (alpha + c * g) - k, 0.0
+        g, kd = finish(d, dx, z, eps, rate(z, eps, sgn, p), sgn, s0, s1, p)
+        return g, kd, 0.0
 
     return bouc_wen_story_kernel
 
 
-bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_rate)
+bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_rate, bouc_wen_story_finish)
 
 #: A Bouc–Wen drift this close to the story's trial drift, as a fraction of δ_y, continues that
 #: trial along its rate (:func:`make_bouc_wen_story_near`): the terms dropped are of order
@@ -299,9 +309,9 @@ bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_rate)
 BW_NEAR = 1e-8
 
 
-def make_bouc_wen_story_near(rate):
-    """The Bouc–Wen story's re-evaluation near its trial drift on a given ``rate`` (plain or
-    compiled, as :func:`make_bouc_wen_story_kernel`)."""
+def make_bouc_wen_story_near(rate, finish):
+    """The Bouc–Wen story's re-evaluation near its trial drift on a given ``rate`` and ``finish``
+    (plain or compiled, as :func:`make_bouc_wen_story_kernel`)."""
 
     def bouc_wen_story_near(d, s0, s1, p):
         """A Bouc–Wen story at drift ``d`` [m] within BW_NEAR δ_y of the trial drift in ``s1``,
@@ -323,24 +333,15 @@ def make_bouc_wen_story_near(rate):
             and abs(s1[SS_D] - s0[SS_D]) <= BW_STEP * dy
         ):
             return False, 0.0, 0.0
-        c = 1.0 - alpha
         z = s1[SS_Z] + x * s1[SS_G]
-        eps = s1[SS_EPS] + x * c * s1[SS_Z]
-        g = rate(z, eps, sgn, p)
-        f = alpha * k * d + c * fy * z
-        s1[SS_F] = f
-        s1[SS_D] = d
-        s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
-        s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * dy * z * z
-        s1[SS_Z] = z
-        s1[SS_EPS] = eps
-        s1[SS_G] = g
-        return True, f - k * d, k * (alpha + c * g) - k
+        eps = s1[SS_EPS] + x * (1.0 - alpha) * s1[SS_Z]
+        g, kd = finish(d, dx, z, eps, rate(z, eps, sgn, p), sgn, s0, s1, p)
+        return True, g, kd
 
     return bouc_wen_story_near
 
 
-bouc_wen_story_near = make_bouc_wen_story_near(bouc_wen_story_rate)
+bouc_wen_story_near = make_bouc_wen_story_near(bouc_wen_story_rate, bouc_wen_story_finish)
 
 
 def takeda_story_kernel(d, dd, h, s0, s1, p):

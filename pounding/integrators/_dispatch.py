@@ -153,9 +153,12 @@ _maxwell_link_stored = jit(_links.maxwell_link_stored)
 _bilinear_story = jit(_stories.bilinear_story_kernel)
 # the rate inlined: five calls per drift increment in a dependent chain
 bouc_wen_story_rate = jit_inline(_stories.bouc_wen_story_rate)
-_bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_rate))
+_bouc_wen_finish = jit_inline(_stories.bouc_wen_story_finish)
+_bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_rate, _bouc_wen_finish))
 # inlined into the element loop: a pass re-evaluates each story a round-off away
-bouc_wen_story_near = jit_inline(_stories.make_bouc_wen_story_near(bouc_wen_story_rate))
+bouc_wen_story_near = jit_inline(
+    _stories.make_bouc_wen_story_near(bouc_wen_story_rate, _bouc_wen_finish)
+)
 _takeda_story = jit(_stories.takeda_story_kernel)
 _imk_story = jit(_stories.imk_story_kernel)
 _story_stored = jit(_stories.story_stored)
