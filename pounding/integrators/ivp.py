@@ -120,6 +120,10 @@ _EPS = np.finfo(float).eps
 # --------------------------------------------------------------------------------------------------
 
 
+#: contact_eval's Python source (it calls the compiled laws), for the few calls made from Python.
+_contact_eval_py = getattr(contact_eval, "py_func", contact_eval)
+
+
 @jit
 def _element_forces(law, params, d, dd, v0, fstate, force, rate):
     """Force [N] of every element, and dF/dt [N/s] of the bilinear force states (0 elsewhere)."""
@@ -128,7 +132,11 @@ def _element_forces(law, params, d, dd, v0, fstate, force, rate):
             force[c] = max(fstate[c], 0.0) if d[c] > 0.0 else 0.0
             rate[c] = bilinear_rate(d[c], dd[c], fstate[c], params[c])
         else:
-            force[c] = contact_eval(law[c], d[c], dd[c], v0[c], 0.0, 0.0, params[c])[0]
+            # the law's parameters as a tuple, as the Newmark loop passes them (gap_force): an
+            # array row would compile every law a second time
+            p = params
+            pc = (p[c, 0], p[c, 1], p[c, 2], p[c, 3], p[c, 4], p[c, 5], p[c, 6], p[c, 7])
+            force[c] = contact_eval(law[c], d[c], dd[c], v0[c], 0.0, 0.0, pc)[0]
             rate[c] = 0.0
 
 
@@ -547,7 +555,10 @@ class _Model:
         if self.law[c] == BILINEAR_ID:
             return max(float(y[self.ifb.start + int(np.searchsorted(self.bil, c))]), 0.0)
         dd = float(self.B[c] @ y[self.iv])
-        return float(contact_eval(self.law[c], d, dd, self.v0[c], 0.0, 0.0, self.params[c])[0])
+        # the laws as compiled for the loops (a tuple of parameters), dispatched in Python: no
+        # compiled entry of contact_eval for this one call
+        p = tuple(float(x) for x in self.params[c])
+        return float(_contact_eval_py(int(self.law[c]), d, dd, float(self.v0[c]), 0.0, 0.0, p)[0])
 
     def derived(self, t: np.ndarray, y: np.ndarray) -> dict[str, np.ndarray]:
         """Physical quantities at states ``y`` (state, samples) of the current phase; rows = samples."""
