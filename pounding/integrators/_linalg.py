@@ -113,7 +113,7 @@ def band_ldl_into(Jb, bw, L, D):
 @jit
 def band_solve(L, D, bw, r, x):
     """x = (L D⁻¹ Lᵀ)⁻¹ r in O(n bw), D holding the inverse pivots (x and r distinct arrays)."""
-    band_solve_range(L, D, bw, r, x, 0, r.size)
+    band_solve_range(L, D, bw, r, x, np.int64(0), r.size)  # not a literal 0: one specialisation
 
 
 @jit_internal
@@ -268,7 +268,7 @@ def band_column(L, D, bw, blk, dof, sign, c, e, x):
     buildings, their floors alone) and zero elsewhere; ``e`` is zero on entry and on return."""
     n = e.size
     lo = n
-    hi = 0
+    hi = np.int64(0)  # (a literal 0 compiled band_solve_range once more)
     for s in range(dof.shape[1]):
         k = dof[c, s]
         if k >= 0:
@@ -349,7 +349,7 @@ def woodbury_band_solve(L, D, bw, blk, R, x_dof, x_sign, kc, Zr, have, S, y, x, 
     for i in range(n):
         y[i] = -y[i]
         e[i] = 0.0
-    m = 0
+    m = np.int64(0)  # int64 from the start: a literal 0 compiles _woodbury_correct twice
     for c in range(kc.size):
         if kc[c] == 0.0:
             continue
@@ -435,7 +435,7 @@ def _woodbury_solve(J_inv, R, el_dof, el_sign, kc, Z, S, y, x):
             acc += J_inv[i, j] * R[j]
         y[i] = -acc
         x[i] = -acc
-    m = 0
+    m = np.int64(0)
     for c in range(n_el):
         if kc[c] == 0.0:
             continue
