@@ -298,7 +298,8 @@ def store(row, t, md, x0, gaps, fr, el, en, out):
     e = out.e
     e[row, 0] = en[EN_INPUT]
     e[row, 1] = 0.5 * _band_quadratic(md.MbT, md.bw, v)
-    story_stored = elements_stored(el, FAMILY_STORY)
+    # the family as an int64, not its literal: one compiled elements_stored for both families
+    story_stored = elements_stored(el, np.int64(FAMILY_STORY))
     # a yielding story's recoverable energy is F²/(2k): K's k δ²/2 plus its element's part
     e[row, 2] = 0.5 * _band_quadratic(md.KbT, md.bw, u) + story_stored
     e[row, 3] = en[EN_DAMP]
@@ -306,7 +307,7 @@ def store(row, t, md, x0, gaps, fr, el, en, out):
     e[row, 5] = stored
     e[row, 6] = en[EN_FRICTION]
     e[row, 7] = en[EN_ALG]
-    link_stored = elements_stored(el, FAMILY_LINK)
+    link_stored = elements_stored(el, np.int64(FAMILY_LINK))
     e[row, 8] = en[EN_ELEMENTS + FAMILY_LINK] - link_stored
     e[row, 9] = link_stored
     e[row, 10] = en[EN_ELEMENTS + FAMILY_STORY] - story_stored
