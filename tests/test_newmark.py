@@ -549,3 +549,24 @@ def test_every_method_of_the_registry_is_an_integrator_and_unknown_names_list_th
         get_integrator("leapfrog")
     with pytest.raises(ValueError, match="ivp_method = 'Euler'"):
         get_integrator("ivp", method="Euler")
+
+
+@pytest.mark.parametrize("bw", [0, 1, 2, 3])
+def test_the_energy_ledgers_band_forms_equal_the_dense_products(bw):
+    # xᵀ A y from A's diagonals in partial sums (the damping work of every step, the kinetic and
+    # strain energies of every output row) against numpy's dense product, for orders that leave
+    # every remainder of the four-way sums, A not symmetric
+    from pounding.integrators._linalg import _band_bilinear, _band_quadratic
+
+    rng = np.random.default_rng(bw)
+    for n in range(1, 12):
+        A = rng.uniform(-1.0, 1.0, (n, n))
+        A[np.abs(np.subtract.outer(np.arange(n), np.arange(n))) > bw] = 0.0
+        AbT = np.zeros((2 * bw + 1, n))
+        for k in range(2 * bw + 1):
+            for i in range(n):
+                if 0 <= i - bw + k < n:
+                    AbT[k, i] = A[i, i - bw + k]
+        x, y = rng.uniform(-1.0, 1.0, (2, n))
+        assert _band_bilinear(AbT, bw, x, y) == pytest.approx(x @ A @ y, rel=1e-13, abs=1e-13)
+        assert _band_quadratic(AbT, bw, x) == pytest.approx(x @ A @ x, rel=1e-13, abs=1e-13)
