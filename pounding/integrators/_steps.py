@@ -282,11 +282,8 @@ def straight_map(sl, el, w, alpha):
     x = [u; v; a]: one map Qsᵀ, ps and the constant p0 = −Zᵀ c, built over the stories off their
     elastic slope (n × 3n products each). False when a tangent is singular along a story."""
     n_el = el.kind.size
-    for e in range(n_el):
-        if el.state[e, SS_KT] - el.params[e, 0] != sl.kd[e]:
-            if not slopes_update(sl, el, w):
-                return False
-            break
+    if not slopes_update(sl, el, w):
+        return False
     sl.count[1] = 0
     n = sl.Z.shape[1]
     for j in range(3 * n):
