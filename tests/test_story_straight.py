@@ -265,22 +265,23 @@ def test_every_hht_step_of_a_yielding_building_meets_its_weighted_equation(model
 
 
 @numba.njit
-def _update(sl, el, w):
-    return slopes_update(sl, el, w)
+def _update(sl, el, w, alpha):
+    return slopes_update(sl, el, w, alpha)
 
 
 @numba.njit
-def _prepare_slopes(J_inv, el):
-    n = J_inv.shape[0]
-    return slopes_prepare(J_inv, np.zeros((3 * n, n)), np.zeros(n), el, True)
+def _prepare_slopes(J_inv, el, Q, pg):
+    return slopes_prepare(J_inv, Q, pg, el, True)
 
 
-def test_rank_one_updates_of_the_stories_condensation_equal_the_inverse_of_the_tangent():
+def test_rank_one_updates_of_the_stories_condensation_and_straight_map_equal_numpys_solves():
     # a 4-dof chain of 4 stories (one to the ground), random slopes: after each round of changes
-    # (some stories only), and across a rebuild from kd = 0, Z = (J + w Bᵀ diag(kd) B)⁻¹ Bᵀ and
-    # S = B Zᵀ as numpy's inverse gives them
+    # (some stories only), and across a rebuild from kd = 0, Z = (J + w Bᵀ diag(kd) B)⁻¹ Bᵀ,
+    # S = B Zᵀ and the straight map (Qᵀ, pg) of a random linear map (Q0ᵀ = J⁻¹ R, pg0 = J⁻¹ r):
+    # Qᵀ = J_s⁻¹ (R + α Bᵀ diag(kd) B [I 0 0]), pg = J_s⁻¹ r, as numpy's solves give them
     rng = np.random.default_rng(7)
     n, w = 4, 0.9
+    alpha = w - 1.0
     el = _elements("takeda", _CASES["takeda"][1])
     el = el._replace(kind=np.full(n, FAMILY_STORY), law=np.full(n, el.law[0]),
                      dof=np.array([[0, -1], [1, 0], [2, 1], [3, 2]]),
@@ -293,15 +294,23 @@ def test_rank_one_updates_of_the_stories_condensation_equal_the_inverse_of_the_t
             if el.dof[e, c] >= 0:
                 B[e, el.dof[e, c]] = el.sign[e, c]
     J = B.T @ np.diag(rng.uniform(1.0, 2.0, n) * K) @ B + np.diag(rng.uniform(0.5, 1.0, n) * K)
-    sl = _prepare_slopes(np.linalg.inv(J), el)
+    R, r = rng.normal(size=(n, 3 * n)), rng.normal(size=n)
+    Q0, pg0 = np.linalg.solve(J, R).T.copy(), np.linalg.solve(J, r)
+    sl = _prepare_slopes(np.linalg.inv(J), el, Q0, pg0)
+    Eu = np.hstack([np.eye(n), np.zeros((n, 2 * n))])
     for round_ in range(40):
         changed = rng.random(n) < 0.5
         el.state[changed, SS_KT] = K * rng.uniform(-0.3, 1.0, changed.sum())
         if round_ == 25:
             sl.count[0] = SLOPE_REFRESH
-        assert _update(sl, el, w)
+        assert _update(sl, el, w, alpha)
         kd = el.state[:, SS_KT] - K
-        Z = np.linalg.solve(J + w * B.T @ np.diag(kd) @ B, B.T).T
+        Js = J + w * B.T @ np.diag(kd) @ B
+        Z = np.linalg.solve(Js, B.T).T
         np.testing.assert_allclose(sl.Z, Z, rtol=0, atol=1e-10 * np.abs(Z).max())
         np.testing.assert_allclose(sl.S, B @ Z.T, rtol=0, atol=1e-10 * np.abs(Z).max())
+        Q = np.linalg.solve(Js, R + alpha * B.T @ np.diag(kd) @ B @ Eu).T
+        np.testing.assert_allclose(sl.Q, Q, rtol=0, atol=1e-10 * np.abs(Q).max())
+        pg = np.linalg.solve(Js, r)
+        np.testing.assert_allclose(sl.pg, pg, rtol=0, atol=1e-10 * np.abs(pg).max())
     assert sl.count[0] < 40 * n  # the rebuild happened

@@ -92,10 +92,10 @@ Factor = namedtuple("Factor", "h L D J_inv Z S Q pg have blk")
 #: (k_t − k): row e of Z is (J + w Bᵀ diag(kd) B)⁻¹ b_e, S = B Zᵀ; Z0, S0 the same at kd = 0;
 #: ``count[0]`` rank-one updates since Z was last rebuilt from Z0, ``count[1]`` nonzero when a
 #: kernel committed since the straight map (Q, pg, p0: u1 = Qᵀ[u; v; a] + pg g_eff + p0) was
-#: built from the linear one (Q0, pg0) and BQ (the stories' drifts of Q0ᵀ and pg0); ``s``
+#: brought to the stories' branches (by rank one from the linear map Q0, pg0 at kd = 0); ``s``
 #: scratch. Empty (0 rows) unless every element is a story with straight branches in a small
 #: system without friction.
-Slopes = namedtuple("Slopes", "Z S Z0 S0 kd count s Q pg p0 Q0 pg0 BQ")
+Slopes = namedtuple("Slopes", "Z S Z0 S0 kd count s Q pg p0 Q0 pg0")
 #: What the caller passes: matrices M, C, K, the influence vector, the dof below each dof (−1 at a
 #: base), the rocking dof and height of each dof's story, the ground record and its step, and the
 #: rows of every nonlinear element.

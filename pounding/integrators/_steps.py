@@ -231,8 +231,9 @@ def settle_elements(bw, J_inv, L, D, cf, h, el, tr, lin, f_prev, tol, max_iter):
     return False
 
 
-#: Rank-one updates of the story slopes' condensation before it is rebuilt from kd = 0 (round-off).
-SLOPE_REFRESH = 4096
+#: Rank-one updates of the stories' condensation and straight map before both are rebuilt from
+#: kd = 0, which drops the updates' round-off.
+SLOPE_REFRESH = 64
 
 
 @jit_inline
@@ -241,7 +242,7 @@ def straight_step(sl, g_eff, cf, x0, el, tr):
     story's next turning point, :func:`pounding.stories.story_straight`): each story force is then
     affine in its drift, g = c + kd δ (g = F − k δ, kd = k_t − k, c constant on the branch), and
     the weighted equation is that of a linear system with K + Bᵀ diag(kd) B and the load −Bᵀ c.
-    Its dense map (:func:`straight_map`, rebuilt when a kernel commits) takes the step in one
+    Its dense map (:func:`straight_map`, updated when a kernel commits) takes the step in one
     product, as the elastic step: no passes, exact to round-off. False when it does not apply (a
     story turned inside the step, the map is unavailable or singular): the caller takes the
     linear step and the passes."""
@@ -272,68 +273,53 @@ def straight_step(sl, g_eff, cf, x0, el, tr):
 
 @jit_internal
 def straight_map(sl, el, w, alpha):
-    """The dense map of a step in which every story goes straight on, from the linear system's
-    (Qᵀ, p) and the stories' condensation on their slopes (:func:`slopes_update`). With δ_lin the
-    linear step's drifts, the stories' correction is Δu = −Zᵀ r, r = f0 + w kd (δ_lin − δ0) and
-    f0 = c + kd δ0, so
-
-    u1 = Qᵀx + p g − Zᵀ c + α Zᵀ diag(kd) B u − w Zᵀ diag(kd) (B Qᵀ x + B p g),
-
-    x = [u; v; a]: one map Qsᵀ, ps and the constant p0 = −Zᵀ c, built over the stories off their
-    elastic slope (n × 3n products each). False when a tangent is singular along a story."""
-    n_el = el.kind.size
-    if not slopes_update(sl, el, w):
+    """Bring the dense map of a step in which every story goes straight on (Q, pg, p0: u1 = Qᵀx +
+    pg g + p0, x = [u; v; a]) to the stories' committed branches, g = c + kd δ on each: the
+    system with K + Bᵀ diag(kd) B and the constant load −Bᵀ c. The slopes enter by rank one
+    (:func:`slopes_update`); the constant load is p0 = −Zᵀ c, n_el × n products. False when a
+    tangent is singular along a story."""
+    if not slopes_update(sl, el, w, alpha):
         return False
     sl.count[1] = 0
     n = sl.Z.shape[1]
-    for j in range(3 * n):
-        for i in range(n):
-            sl.Q[j, i] = sl.Q0[j, i]
     for i in range(n):
-        sl.pg[i] = sl.pg0[i]
         sl.p0[i] = 0.0
-    for e in range(n_el):
+    for e in range(el.kind.size):
         c = el.f0[e] - sl.kd[e] * el.d0[e]
         if c != 0.0:
             for i in range(n):
                 sl.p0[i] -= sl.Z[e, i] * c
-        kd = sl.kd[e]
-        if kd == 0.0:
-            continue
-        for j in range(3 * n):
-            t = w * kd * sl.BQ[e, j]
-            if t != 0.0:
-                for i in range(n):
-                    sl.Q[j, i] -= sl.Z[e, i] * t
-        t = w * kd * sl.BQ[e, 3 * n]
-        for i in range(n):
-            sl.pg[i] -= sl.Z[e, i] * t
-        for s in range(el.dof.shape[1]):
-            j = el.dof[e, s]
-            if j >= 0:
-                t = alpha * kd * el.sign[e, s]
-                for i in range(n):
-                    sl.Q[j, i] += sl.Z[e, i] * t
     return True
 
 
 @jit_internal
-def slopes_update(sl, el, w):
-    """Bring the stories' condensation ``sl`` to each story's slope ahead, kd = k_t − k, by rank-one
-    (Sherman–Morrison) updates: for a change Δ = w Δkd of story e,
+def slopes_update(sl, el, w, alpha):
+    """Bring the stories' condensation ``sl`` and the straight map (Q, pg) to each story's slope
+    ahead, kd = k_t − k, by rank-one (Sherman–Morrison) updates. For a change Δ of story e's kd,
+    the tangent J_s = J + w Bᵀ diag(kd) B gains w Δ b bᵀ and the load α Δ b bᵀu, so with
+    z = J_s⁻¹ b = Z[e] (before), s = S[e] and c = w Δ/(1 + w Δ S[e, e]):
 
-    Z ← Z − c s ⊗ Z[e],  S ← S − c s ⊗ s,  s = S[e] (before),  c = Δ/(1 + Δ S[e, e]),
+    Z ← Z − c s ⊗ Z[e],  S ← S − c s ⊗ s,
+    Qᵀ ← Qᵀ − c z (b Qᵀ) + (α Δ/(1 + w Δ S[e, e])) z bᵀ[I 0 0],  pg ← pg − c z (b·pg):
 
-    rebuilt from kd = 0 every SLOPE_REFRESH updates. False when a tangent is singular along a story
-    (|1 + Δ S[e, e]| < 1e-9): the passes, then Newton, take such steps."""
+    n × 3n products per story that turned, where building the map anew costs that per story off
+    its elastic slope. Rebuilt from kd = 0 (Z0, S0 and the linear map Q0, pg0) every
+    SLOPE_REFRESH updates. False when a tangent is singular along a story
+    (|1 + w Δ S[e, e]| < 1e-9): the passes, then Newton, take such steps."""
     n_el = el.kind.size
-    if sl.count[0] >= SLOPE_REFRESH:
+    n = sl.Z.shape[1]
+    if sl.count[0] >= SLOPE_REFRESH:  # the updates' round-off, dropped
         for e in range(n_el):
             sl.kd[e] = 0.0
-            for i in range(sl.Z.shape[1]):
+            for i in range(n):
                 sl.Z[e, i] = sl.Z0[e, i]
             for f in range(n_el):
                 sl.S[e, f] = sl.S0[e, f]
+        for j in range(sl.Q.shape[0]):
+            for i in range(n):
+                sl.Q[j, i] = sl.Q0[j, i]
+        for i in range(n):
+            sl.pg[i] = sl.pg0[i]
         sl.count[0] = 0
     s = sl.s
     for e in range(n_el):
@@ -346,13 +332,35 @@ def slopes_update(sl, el, w):
             sl.count[0] = SLOPE_REFRESH  # rebuilt from kd = 0 at the next call
             return False
         c = delta / den
+        for j in range(sl.Q.shape[0]):
+            bq = 0.0
+            for r in range(el.dof.shape[1]):
+                i = el.dof[e, r]
+                if i >= 0:
+                    bq += el.sign[e, r] * sl.Q[j, i]
+            if bq != 0.0:
+                for i in range(n):
+                    sl.Q[j, i] -= c * bq * sl.Z[e, i]
+        bq = 0.0
+        for r in range(el.dof.shape[1]):
+            i = el.dof[e, r]
+            if i >= 0:
+                bq += el.sign[e, r] * sl.pg[i]
+        for i in range(n):
+            sl.pg[i] -= c * bq * sl.Z[e, i]
+        t = alpha * (kd - sl.kd[e]) / den
+        for r in range(el.dof.shape[1]):
+            j = el.dof[e, r]
+            if j >= 0:
+                for i in range(n):
+                    sl.Q[j, i] += t * el.sign[e, r] * sl.Z[e, i]
         for f in range(n_el):
             s[f] = sl.S[e, f]
         for f in range(n_el):
             if f != e and s[f] != 0.0:
-                for i in range(sl.Z.shape[1]):
+                for i in range(n):
                     sl.Z[f, i] -= c * s[f] * sl.Z[e, i]
-        for i in range(sl.Z.shape[1]):
+        for i in range(n):
             sl.Z[e, i] -= c * s[e] * sl.Z[e, i]
         for f in range(n_el):
             for g in range(n_el):
@@ -372,21 +380,13 @@ def slopes_prepare(J_inv, Q, pg, el, straight):
     n = J_inv.shape[0] if m > 0 else 0
     Z0 = np.zeros((m, n))
     S0 = np.zeros((m, m))
-    BQ = np.zeros((m, 3 * n + 1))  # the drifts of the linear step: B Qᵀ, then B p
     if m > 0:
         # the stories' rows condensed as the gaps' are
         condense_map(J_inv, el.dof, el.sign, Z0, S0, np.zeros((m, 3), dtype=np.int64))
-        for e in range(m):
-            for s in range(el.dof.shape[1]):
-                i = el.dof[e, s]
-                if i >= 0:
-                    for j in range(3 * n):
-                        BQ[e, j] += el.sign[e, s] * Q[j, i]
-                    BQ[e, 3 * n] += el.sign[e, s] * pg[i]
     Q0 = Q[: 3 * n, :n].copy()
     pg0 = pg[:n].copy()
     return Slopes(Z0.copy(), S0.copy(), Z0, S0, np.zeros(m), np.array([0, 1]), np.zeros(m),
-                  Q0.copy(), pg0.copy(), np.zeros(n), Q0, pg0, BQ)  # fmt: skip
+                  Q0.copy(), pg0.copy(), np.zeros(n), Q0, pg0)  # fmt: skip
 
 
 @jit_inline
