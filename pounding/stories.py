@@ -148,7 +148,8 @@ SS_LD_POS, SS_LF_POS, SS_LD_NEG, SS_LF_NEG = 20, 21, 22, 23
 #: the slope [N/m] of the path up to it, and 1/(2 k_e) [m/N] of the recoverable energy F²/(2 k_e)
 #: along it: a further increment in that direction short of that point is straight
 #: (:func:`story_straight`). ``SS_NEXT`` at the drift itself bars the shortcut (a branch that moves
-#: other state: a pushed peak; a failed story).
+#: other state: a pushed Takeda peak; a failed story). An IMK target pushed along the envelope is
+#: left behind by such increments and brought up to the drift at the kernel's next call.
 SS_NEXT, SS_KT, SS_EK = 24, 25, 26
 N_STORY_STATE = 27
 #: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14;
@@ -501,14 +502,18 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         s1[SS_NEXT] = d
         return f - k * d, (0.0 if failed else ku) - k, 0.0
     sgn = 1.0 if dx > 0.0 else -1.0
+    # a target follows the drift while it pushes the envelope, and straight increments along the
+    # envelope (story_straight) leave it behind: it is never short of the drift reached on its side
+    t_pos, t_neg = max(s0[SS_T_POS], d0), min(s0[SS_T_NEG], d0)
+    s1[SS_T_POS], s1[SS_T_NEG] = t_pos, t_neg
     # the frame of the increment: x moves up, the loaded side is "a"
     x, x0, g = sgn * d, sgn * d0, sgn * f0
     if sgn > 0.0:
-        z_a, ds_a, dc_a, t_a = s0[SS_ZERO_POS], s0[SS_DS_POS], s0[SS_DC_POS], s0[SS_T_POS]
-        l_x, l_f, t_b = s0[SS_LD_POS], s0[SS_LF_POS], -s0[SS_T_NEG]
+        z_a, ds_a, dc_a, t_a = s0[SS_ZERO_POS], s0[SS_DS_POS], s0[SS_DC_POS], t_pos
+        l_x, l_f, t_b = s0[SS_LD_POS], s0[SS_LF_POS], -t_neg
     else:
-        z_a, ds_a, dc_a, t_a = -s0[SS_ZERO_NEG], s0[SS_DS_NEG], s0[SS_DC_NEG], -s0[SS_T_NEG]
-        l_x, l_f, t_b = -s0[SS_LD_NEG], -s0[SS_LF_NEG], s0[SS_T_POS]
+        z_a, ds_a, dc_a, t_a = -s0[SS_ZERO_NEG], s0[SS_DS_NEG], s0[SS_DC_NEG], -t_neg
+        l_x, l_f, t_b = -s0[SS_LD_NEG], -s0[SS_LF_NEG], t_pos
     t_a = max(t_a, dy)
     direction = sgn * s0[SS_DIR]
     if direction < 0.0:
@@ -611,13 +616,28 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         f_hi = force_at(hi)[0] if hi < x else gx
         w += 0.5 * (f_lo + f_hi) * (hi - lo)
         lo, f_lo = hi, f_hi
+    # the straight path ahead (story_straight): up to the next corner where the path turns (its
+    # slope changes) or the state moves (the target; the zero crossing, with the force below
+    # zero), past corners of other branches. On the envelope too: its target is brought up to the
+    # drift at the next call. None once failed.
     ahead = math.inf
     for cx in corners:
         if x < cx < ahead:
             ahead = cx
-    # the straight path ahead (story_straight); none while the envelope is pushed (the target
-    # follows the drift) or once failed
-    s1[SS_NEXT] = d if failed or x >= t_a else sgn * ahead
+    lo = x
+    while ahead < math.inf and ahead != t_a and not (ahead == z_a and gx <= 0.0):
+        beyond = math.inf
+        for cx in corners:
+            if ahead < cx < beyond:
+                beyond = cx
+        m_b = 0.5 * (lo + ahead)
+        m_a = 0.5 * (ahead + beyond) if beyond < math.inf else ahead + dy
+        f_b, k_b = force_at(m_b)
+        f_a, k_a = force_at(m_a)
+        if k_a != k_b or abs(f_b + k_b * (ahead - m_b) - f_a - k_a * (ahead - m_a)) > 1e-9 * fy0:
+            break
+        lo, ahead = ahead, beyond
+    s1[SS_NEXT] = d if failed else sgn * ahead
     # the slope beyond x (at a kink force_at gives the one before it)
     s1[SS_KT] = force_at(0.5 * (x + ahead) if ahead < math.inf else x + dy)[1]
     s1[SS_EK] = 0.5 / ku
