@@ -148,10 +148,12 @@ SS_LD_POS, SS_LF_POS, SS_LD_NEG, SS_LF_NEG = 20, 21, 22, 23
 #: the slope [N/m] of the path up to it, and 1/(2 k_e) [m/N] of the recoverable energy F²/(2 k_e)
 #: along it: a further increment in that direction short of that point is straight
 #: (:func:`story_straight`). ``SS_NEXT`` at the drift itself bars the shortcut (a branch that moves
-#: other state: a pushed Takeda peak; a failed story). An IMK target pushed along the envelope is
-#: left behind by such increments and brought up to the drift at the kernel's next call.
+#: other state: a failed story). A Takeda peak or IMK target pushed along the backbone is left
+#: behind by such increments and brought up to the drift at the kernel's next call.
 SS_NEXT, SS_KT, SS_EK = 24, 25, 26
 N_STORY_STATE = 27
+#: Takeda's model id (:data:`STORY_MODELS`), for :func:`story_energy`.
+TAKEDA_ID = 3
 #: Parameters per story element: k [N/m], F_y [N], then the model's own (Bouc–Wen: 14;
 #: drift parameters in metres).
 N_STORY_PARAMS = 16
@@ -362,10 +364,13 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
 
     d0 = s0[SS_D]
     f0 = s0[SS_F]
-    pos = max(s0[SS_PEAK_POS], dy)
-    neg = min(s0[SS_PEAK_NEG], -dy)
-    k_pos = s0[SS_KU_POS] if s0[SS_KU_POS] > 0.0 else unloading(pos / dy)
-    k_neg = s0[SS_KU_NEG] if s0[SS_KU_NEG] > 0.0 else unloading(-neg / dy)
+    # a peak follows the drift along the backbone, and straight increments there (story_straight)
+    # leave it behind: it is never short of the drift reached on its side
+    pos = max(s0[SS_PEAK_POS], d0, dy)
+    neg = min(s0[SS_PEAK_NEG], d0, -dy)
+    pushed_pos, pushed_neg = d0 > s0[SS_PEAK_POS], d0 < s0[SS_PEAK_NEG]
+    k_pos = s0[SS_KU_POS] if s0[SS_KU_POS] > 0.0 and not pushed_pos else unloading(pos / dy)
+    k_neg = s0[SS_KU_NEG] if s0[SS_KU_NEG] > 0.0 and not pushed_neg else unloading(-neg / dy)
     zero_pos, zero_neg = s0[SS_ZERO_POS], s0[SS_ZERO_NEG]
     direction = s0[SS_DIR]
     dx = d - d0
@@ -379,6 +384,7 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
         if d >= pos:
             f = fy + b * k * (d - dy)
             kt = b * k
+            ahead = math.inf  # up the backbone, pushing the peak
         elif f0 < 0.0 and d < zero_pos:
             f = f0 + k_neg * dx
             kt = k_neg
@@ -403,6 +409,7 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
         if d <= neg:
             f = -fy + b * k * (d + dy)
             kt = b * k
+            ahead = -math.inf
         elif f0 > 0.0 and d > zero_neg:
             f = f0 + k_pos * dx
             kt = k_pos
@@ -683,10 +690,16 @@ def imk_failure_ahead(s0: np.ndarray, p: np.ndarray, direction: float) -> tuple[
     return False, math.nan
 
 
-def story_stored(d, f, s, p):
-    """Recoverable energy [J] of a story element beyond the k δ²/2 of the assembled K (the whole
-    story then holds the E of its state: F²/(2k) for the bilinear model)."""
-    return s[SS_E] - 0.5 * p[0] * d * d
+def story_energy(law, s, p):
+    """Recoverable energy E [J] of a story of model id ``law`` at its committed state row ``s``:
+    the row's E, except for a Takeda story pushed along its backbone past the peak its row holds by
+    straight increments, whose E = F²/(2 k_u) with the unloading stiffness k_u of the drift reached
+    (its row's E is the one at the peak held, ``SS_EK`` being that peak's)."""
+    if law == TAKEDA_ID and (s[SS_D] > s[SS_PEAK_POS] or s[SS_D] < s[SS_PEAK_NEG]):
+        k, fy, a = p[0], p[1], p[3]
+        mu = abs(s[SS_D]) * k / fy
+        return 0.5 * s[SS_F] * s[SS_F] * (mu**a if a != 0.0 else 1.0) / k
+    return s[SS_E]
 
 
 @dataclass(frozen=True)
@@ -739,7 +752,7 @@ _MODELS = (
                "Wen 1976; Baber & Noori 1985 (degradation); Foliente 1995 (pinching h)",
                "BoucWen alpha=α ko=k n gamma=γ/δ_y^n beta=β/δ_y^n Ao=A (deltas: see docs); "
                "BWBN with pinching"),
-    StoryModel("takeda", 3, takeda_story_kernel,
+    StoryModel("takeda", TAKEDA_ID, takeda_story_kernel,
                (("hardening", "", 0.0, 0.0, 1.0), ("unloading_exponent", "", 0.4, 0.0, 2.0)),
                "peak-oriented: unload at k (δ_m/δ_y)^(−a) to F = 0, reload to the opposite peak",
                "Takeda, Sozen & Nielsen 1970; Clough & Johnston 1966 (a = 0); Otani 1981",

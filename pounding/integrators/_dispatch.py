@@ -161,7 +161,7 @@ bouc_wen_story_near = jit_inline(
 )
 _takeda_story = jit(_stories.takeda_story_kernel)
 _imk_story = jit(_stories.imk_story_kernel)
-_story_stored = jit(_stories.story_stored)
+_story_energy = jit(_stories.story_energy)
 # inlined into the element loop: most story increments of an analysis take it
 story_straight = jit_inline(_stories.story_straight)
 #: The state columns a straight story increment writes (the rest stay the committed ones).
@@ -212,7 +212,8 @@ def element_eval(kind, law, d, dd, h, s0, s1, p):
 def element_stored(kind, law, d, f, s, p):
     """Recoverable energy [J] of an element at (δ, F, state), beyond what the assembled K holds."""
     if kind == FAMILY_STORY:
-        return _story_stored(d, f, s, p)
+        # beyond the k δ²/2 of the assembled K (the whole story holds the E of its state)
+        return _story_energy(law, s, p) - 0.5 * p[0] * d * d
     if law == 0:
         return _kelvin_link_stored(d, f, s, p)
     if law == 1:

@@ -68,11 +68,11 @@ from pounding.stories import (
     N_STORY_PARAMS,
     N_STORY_STATE,
     SS_DIR,
-    SS_E,
     SS_FAILED,
     SS_W,
     STORY_MODELS,
     imk_failure_ahead,
+    story_energy,
 )
 from pounding.system import PoundingSystem
 
@@ -318,9 +318,10 @@ def _blank_after(out: kn.Output, output_dt: float, t_end: float) -> None:
         arr[rows] = np.nan
 
 
-def _hysteretic(state: np.ndarray) -> np.ndarray:
+def _hysteretic(state: np.ndarray, law: np.ndarray, params: np.ndarray) -> np.ndarray:
     """Hysteretic energy [J] of each story at its committed state: W less the recoverable E."""
-    return state[:, SS_W] - state[:, SS_E]
+    energy = np.array([story_energy(law[r], state[r], params[r]) for r in range(len(state))])
+    return state[:, SS_W] - energy.reshape(-1)
 
 
 def impact_paths(imp_val: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -467,7 +468,9 @@ def integrate_newmark(
         peak_link_force=out.peak_lf[:n_links],
         story_force=out.lf[:, n_links:],
         peak_story_force=out.peak_lf[n_links:],
-        story_hysteretic=_hysteretic(elements.state[n_links:]),
+        story_hysteretic=_hysteretic(
+            elements.state[n_links:], elements.law[n_links:], elements.params[n_links:]
+        ),
         info={
             "integrator": sch.name,
             "gamma": sch.gamma,
