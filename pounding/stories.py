@@ -362,6 +362,17 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
         # k μ^(−a) from a peak of μ = δ_m/δ_y ≥ 1
         return k if a == 0.0 else k * mu**-a
 
+    def same_line(zero, peak, f_peak, k_here, k_other):
+        # the unloading line through zero force at ``zero`` and the reload line from there to
+        # (peak, f_peak) are one line, with one unloading stiffness either side of zero (the
+        # elastic range): the zero crossing is no turn
+        z = max(zero, peak - f_peak / k) if peak < 0.0 else min(zero, peak - f_peak / k)
+        return (
+            abs(z - zero) <= 1e-12 * dy
+            and abs(f_peak / (peak - z) - k_here) <= 1e-12 * k
+            and abs(k_other - k_here) <= 1e-12 * k
+        )
+
     d0 = s0[SS_D]
     f0 = s0[SS_F]
     # a peak follows the drift along the backbone, and straight increments there (story_straight)
@@ -389,6 +400,8 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
             f = f0 + k_neg * dx
             kt = k_neg
             ahead = zero_pos
+            if same_line(zero_pos, pos, fy + b * k * (pos - dy), k_neg, k_pos):
+                ahead = pos
         else:
             f_peak = fy + b * k * (pos - dy)
             # a reload line steeper than k (beyond the checked ductility) would divide by ~0
@@ -414,6 +427,8 @@ def takeda_story_kernel(d, dd, h, s0, s1, p):
             f = f0 + k_pos * dx
             kt = k_pos
             ahead = zero_neg
+            if same_line(zero_neg, neg, -fy + b * k * (neg + dy), k_pos, k_neg):
+                ahead = neg
         else:
             f_peak = -fy + b * k * (neg + dy)
             zero_neg = max(zero_neg, neg - f_peak / k)

@@ -165,6 +165,31 @@ def test_a_history_taken_straight_where_it_can_equals_the_kernel_at_every_step(c
     assert taken > 0.8 * history.size
 
 
+@pytest.mark.parametrize("case", ["takeda", "clough"])
+def test_takeda_oscillating_below_yield_crosses_zero_force_straight(case):
+    # below yield the unloading and reload lines are the elastic line: the kernel runs at the
+    # first increment and at each reversal only, not where the force crosses zero
+    model, extra = _CASES[case]
+    kernel = STORY_MODELS[model].kernel
+    p = _params(*extra)
+    history = 0.8 * DY * np.sin(2.0 * np.pi * 3.0 * np.arange(1, 2001) / 2000.0)
+    ref0, ref1 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
+    s0, s1 = np.zeros((1, N_STORY_STATE)), np.zeros((1, N_STORY_STATE))
+    kernel_calls = 0
+    for d in history:
+        g_ref = kernel(d, 0.0, 0.01, ref0, ref1, p)[0]
+        s1[:] = s0
+        straight, g, _ = story_straight(d, s0, s1, p[None, :], 0)
+        if not straight:
+            kernel_calls += 1
+            g = kernel(d, 0.0, 0.01, s0[0], s1[0], p)[0]
+        assert g == pytest.approx(g_ref, rel=1e-9, abs=1e-9 * FY)
+        ref0[:] = ref1
+        s0[:] = s1
+    reversals = np.count_nonzero(np.diff(np.sign(np.diff(history))))
+    assert kernel_calls == 1 + reversals
+
+
 def test_bouc_wen_has_no_straight_branch():
     p = _params(0.05, 2.0, 0.5, 0.5, 1.0)
     s0, s1 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
