@@ -15,7 +15,7 @@ from _histories import piecewise
 from pounding.ground_motion import sine_pulse
 from pounding.integrators import _kernels as kn
 from pounding.integrators._families import eval_elements
-from pounding.integrators._steps import SLOPE_REFRESH, slopes_prepare, slopes_update
+from pounding.integrators._steps import SLOPE_REFRESH, on_line, slopes_prepare, slopes_update
 from pounding.simulate import AnalysisOptions, run
 from pounding.stories import (
     BW_NEAR,
@@ -188,6 +188,18 @@ def test_takeda_oscillating_below_yield_crosses_zero_force_straight(case):
         s0[:] = s1
     reversals = np.count_nonzero(np.diff(np.sign(np.diff(history))))
     assert kernel_calls == 1 + reversals
+
+
+def test_a_story_turning_inside_a_straight_step_keeps_it_only_on_the_maps_line():
+    # the map took g = f0 + kd (d − d0) from the committed state; a kernel that agrees (a reversal
+    # on that line) keeps the step, one off it by a slope or an offset does not
+    kd, d0, f0, d = -0.97 * K, 1.5 * DY, -0.4 * FY, 1.2 * DY
+    line = f0 + kd * (d - d0)
+    assert on_line(line, kd, f0, d0, kd, d, K)
+    assert on_line(line * (1.0 + 1e-14), kd * (1.0 + 1e-14), f0, d0, kd, d, K)
+    assert not on_line(line, 0.0, f0, d0, kd, d, K)
+    assert not on_line(line, kd + 1e-9 * K, f0, d0, kd, d, K)
+    assert not on_line(line + 1e-6 * FY, kd, f0, d0, kd, d, K)
 
 
 def test_bouc_wen_has_no_straight_branch():

@@ -158,6 +158,16 @@ def eval_elements(u1, v1, h, el):
     return eval_elements_here(u1, v1, h, el)
 
 
+@jit_internal
+def eval_element(el, e, d, dd, h):
+    """Element e's kernel at drift d [m] and rate dd [m/s] over a step of h [s], from its committed
+    state into its trial row (written); returns (F − k δ, its tangent kd). Called, not inlined:
+    a straight step calls it where a story turned, rarely."""
+    f, kd, _ = element_eval(el.kind[e], el.law[e], d, dd, h, el.state[e], el.trial[e], el.params[e])
+    el.written[e] = True
+    return f, kd
+
+
 @jit_inline
 def eval_elements_here(u1, v1, h, el):
     """:func:`eval_elements` inlined into its caller: the fixed-point passes of every base step

@@ -28,6 +28,7 @@ from pounding.integrators._families import (
     add_friction,
     add_row_tangent,
     band_rows_into,
+    eval_element,
     eval_elements,
     eval_elements_here,
     eval_friction,
@@ -260,15 +261,31 @@ def straight_step(sl, g_eff, cf, x0, el, tr):
     # the straight increments alone (the kernels' dispatch is not compiled into the loop again)
     for e in range(n_el):
         d, dd = gather(el.dof, el.sign, e, tr.u1, tr.v1)
+        if el.written[e]:
+            return False  # a kernel wrote its row before
         straight, f, kd = story_straight(d, el.state, el.trial, el.params, e)
-        if not straight or el.written[e]:
-            return False  # a story turned inside the step (or a kernel wrote its row before)
+        if not straight:
+            # the story may turn here (a reversal, a corner): its kernel, and the step stands if
+            # the force is on the line the map took (a reversal on that line, a corner of
+            # another branch)
+            f, kd = eval_element(el, e, d, dd, 0.0)  # (no straight model reads the step length)
+            if not on_line(f, kd, el.f0[e], el.d0[e], sl.kd[e], d, el.params[e, 0]):
+                return False
         el.d1[e] = d
         el.dd1[e] = dd
         el.f1[e] = f
         el.kd[e] = kd
         el.cd[e] = 0.0
     return True
+
+
+@jit_inline
+def on_line(f, kd, f0, d0, kd_map, d, k):
+    """True when a story's kernel gave, at drift d [m], the force g = F − k δ [N] and slope kd
+    [N/m] of the line the straight map took from its committed (d0, f0): g = f0 + kd_map (d − d0),
+    to 1e-12 of the story's force and stiffness k."""
+    line = f0 + kd_map * (d - d0)
+    return abs(kd - kd_map) <= 1e-12 * k and abs(f - line) <= 1e-12 * (abs(f) + k * abs(d))
 
 
 @jit_internal
