@@ -271,11 +271,10 @@ def straight_step(sl, g_eff, cf, x0, el, tr):
             f, kd = eval_element(el, e, d, dd, 0.0)  # (no straight model reads the step length)
             if not on_line(f, kd, el.f0[e], el.d0[e], sl.kd[e], d, el.params[e, 0]):
                 return False
+        # (a story's drift rate and damping tangent: unread, and 0 from every story kernel)
         el.d1[e] = d
-        el.dd1[e] = dd
         el.f1[e] = f
         el.kd[e] = kd
-        el.cd[e] = 0.0
     return True
 
 
