@@ -652,11 +652,15 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         for cx in corners:
             if ahead < cx < beyond:
                 beyond = cx
-        m_b = 0.5 * (lo + ahead)
-        m_a = 0.5 * (ahead + beyond) if beyond < math.inf else ahead + dy
-        f_b, k_b = force_at(m_b)
-        f_a, k_a = force_at(m_a)
-        if k_a != k_b or abs(f_b + k_b * (ahead - m_b) - f_a - k_a * (ahead - m_a)) > 1e-9 * fy0:
+        # the lines before and after it, each at its middle, as the force at the corner and the
+        # slope (one call site: force_at is inlined at each)
+        f_before = k_before = f_after = k_after = 0.0
+        for j in range(2):
+            y = 0.5 * (lo + ahead) if j == 0 else 0.5 * (ahead + min(beyond, ahead + 2.0 * dy))
+            f_y, k_y = force_at(y)
+            f_before, k_before = (f_y + k_y * (ahead - y), k_y) if j == 0 else (f_before, k_before)
+            f_after, k_after = (f_y + k_y * (ahead - y), k_y) if j == 1 else (f_after, k_after)
+        if k_before != k_after or abs(f_before - f_after) > 1e-9 * fy0:
             break
         lo, ahead = ahead, beyond
     s1[SS_NEXT] = d if failed else sgn * ahead
