@@ -5,7 +5,7 @@ line tables into a fresh cache (``NUMBA_DEBUGINFO=1``), keeps the loop's assembl
 under ``perf record`` from that cache (nothing compiled while sampling), with a perf map naming every
 compiled function. The samples inside the loop ``_integrate`` are mapped to source lines by aligning
 its disassembled machine code with the assembly's instruction sequence. Line numbers are those of the
-source file of the inlined function that emitted the instruction.
+source file of the inlined function that emitted the instruction (the file name is not kept).
 
     python benchmarks/profile_lines.py                      # elastic stories
     python benchmarks/profile_lines.py --stories takeda --repeats 30 --top 30
@@ -80,36 +80,21 @@ def _child(args: argparse.Namespace, work: Path) -> None:
         run(system, gm, opts)
 
 
-def _instructions(asm: str, name: str) -> list[tuple[str, str]]:
-    """(mnemonic, source location "file.py:line") of each instruction of function ``name`` in
-    LLVM's assembly (the ``.file`` directives name the files of the ``.loc`` numbers)."""
-    files = {}
-    for m in re.finditer(r'^\s*\.file\s+(\d+)\s+"([^"]*)"(?:\s+"([^"]*)")?', asm, re.M):
-        files[m.group(1)] = str(Path(m.group(2), m.group(3) or ""))
+def _instructions(asm: str, name: str) -> list[tuple[str, int]]:
+    """(mnemonic, source line) of each instruction of function ``name`` in LLVM's assembly."""
     lines = asm.split("\n")
     start = next(i for i, line in enumerate(lines) if line.startswith(name + ":"))
-    out, loc = [], "?:0"
+    out, loc = [], 0
     for line in lines[start + 1 :]:
         s = line.strip()
         if s.startswith(".Lfunc_end"):
             break
-        m = re.match(r"\.loc\s+(\d+)\s+(\d+)", s)
+        m = re.match(r"\.loc\s+\d+\s+(\d+)", s)
         if m:
-            loc = f"{files.get(m.group(1), '?')}:{m.group(2)}"
+            loc = int(m.group(1))
         elif s and not s.startswith((".", "#")) and not s.endswith(":"):
             out.append((s.split()[0], loc))
     return out
-
-
-def _source(loc: str) -> str:
-    """``file.py:line`` and the line's text (shortened)."""
-    path, _, line = loc.rpartition(":")
-    text = ""
-    try:
-        text = Path(path).read_text().splitlines()[int(line) - 1].strip()
-    except (OSError, IndexError, ValueError):
-        pass
-    return f"{Path(path).name}:{line}  {text[:70]}"
 
 
 def _report(args: argparse.Namespace, work: Path, data: Path) -> None:
@@ -146,11 +131,9 @@ def _report(args: argparse.Namespace, work: Path, data: Path) -> None:
                          text=True).stdout.split()  # fmt: skip
     per_line = collections.Counter(line_of[int(ip, 16)] for ip in ips if int(ip, 16) in line_of)
     total = sum(per_line.values())
-    print(f"inside the loop, by source line ({total} samples; ?:0: no line recorded):")
-    for loc, count in per_line.most_common(args.top):
-        print(
-            f"  {count / rate / steps * 1e9:7.1f} ns  {100 * count / total:5.1f} %  {_source(loc)}"
-        )
+    print(f"inside the loop, by source line ({total} samples; line 0: no line recorded):")
+    for line, count in per_line.most_common(args.top):
+        print(f"  {count / rate / steps * 1e9:7.1f} ns  {100 * count / total:5.1f} %  line {line}")
 
 
 def main(argv: list[str] | None = None) -> int:
