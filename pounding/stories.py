@@ -652,15 +652,19 @@ def imk_story_kernel(d, dd, h, s0, s1, p):
         for cx in corners:
             if ahead < cx < beyond:
                 beyond = cx
-        # the lines before and after it, each at its middle, as the force at the corner and the
+        # the lines before and after it, each from its middle: the force at the corner and the
         # slope (one call site: force_at is inlined at each)
-        f_before = k_before = f_after = k_after = 0.0
+        f_before = k_before = 0.0
+        same = True
         for j in range(2):
             y = 0.5 * (lo + ahead) if j == 0 else 0.5 * (ahead + min(beyond, ahead + 2.0 * dy))
             f_y, k_y = force_at(y)
-            f_before, k_before = (f_y + k_y * (ahead - y), k_y) if j == 0 else (f_before, k_before)
-            f_after, k_after = (f_y + k_y * (ahead - y), k_y) if j == 1 else (f_after, k_after)
-        if k_before != k_after or abs(f_before - f_after) > 1e-9 * fy0:
+            f_at = f_y + k_y * (ahead - y)
+            if j == 0:
+                f_before, k_before = f_at, k_y
+            else:
+                same = k_y == k_before and abs(f_at - f_before) <= 1e-9 * fy0
+        if not same:
             break
         lo, ahead = ahead, beyond
     s1[SS_NEXT] = d if failed else sgn * ahead

@@ -688,7 +688,7 @@ def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every
                     residual(md, g1, tr.u1, tr.v1, tr.a1, gaps, tr.f1, fr, el, ls.r0)
             # accept
             if accept(g1, md, x0, tr, gaps, fr, el, out):
-                sl.count[1] = 1  # a kernel committed: the straight map is built again
+                sl.count[1] = 1  # a kernel committed: the straight map is brought up to date
             t = t + hs
             ctl[CT_GSTART] = g1
             if counters[CNT_STATUS] == STATUS_COLLAPSE:

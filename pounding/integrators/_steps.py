@@ -349,19 +349,11 @@ def slopes_update(sl, el, w, alpha):
             return False
         c = delta / den
         for j in range(sl.Q.shape[0]):
-            bq = 0.0
-            for r in range(el.dof.shape[1]):
-                i = el.dof[e, r]
-                if i >= 0:
-                    bq += el.sign[e, r] * sl.Q[j, i]
+            bq, _ = gather(el.dof, el.sign, e, sl.Q[j], sl.Q[j])
             if bq != 0.0:
                 for i in range(n):
                     sl.Q[j, i] -= c * bq * sl.Z[e, i]
-        bq = 0.0
-        for r in range(el.dof.shape[1]):
-            i = el.dof[e, r]
-            if i >= 0:
-                bq += el.sign[e, r] * sl.pg[i]
+        bq, _ = gather(el.dof, el.sign, e, sl.pg, sl.pg)
         for i in range(n):
             sl.pg[i] -= c * bq * sl.Z[e, i]
         t = alpha * (kd - sl.kd[e]) / den

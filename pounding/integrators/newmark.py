@@ -320,8 +320,8 @@ def _blank_after(out: kn.Output, output_dt: float, t_end: float) -> None:
 
 def _hysteretic(state: np.ndarray, law: np.ndarray, params: np.ndarray) -> np.ndarray:
     """Hysteretic energy [J] of each story at its committed state: W less the recoverable E."""
-    energy = np.array([story_energy(law[r], state[r], params[r]) for r in range(len(state))])
-    return state[:, SS_W] - energy.reshape(-1)
+    energy = [story_energy(law[r], state[r], params[r]) for r in range(len(state))]
+    return state[:, SS_W] - np.array(energy, dtype=float)
 
 
 def impact_paths(imp_val: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
