@@ -219,92 +219,268 @@ def bilinear_story_kernel(d, dd, h, s0, s1, p):
     return f - k * d, kt - k, 0.0
 
 
-def bouc_wen_story_rate(z, eps, sgn, p):
+def bouc_wen_story_rate(z, eps, sgn, p, e):
     """δ_y dζ/dδ of a Bouc–Wen story [4]_, [5]_ at (ζ, ε) moving in direction sgn (±1):
     h(ζ, ε) [A − ν (β sgn(δ̇ ζ) + γ) abs(ζ)^n]/η with A = A0 − δ_A ε, ν = 1 + δ_ν ε,
-    η = 1 + δ_η ε and the pinching factor h of Foliente [8]_ (1 when ζ_s = 0)."""
-    n, beta, gamma = p[3], p[4], p[5]
-    a = p[6] - p[7] * eps
-    nu = 1.0 + p[8] * eps
+    η = 1 + δ_η ε and the pinching factor h of Foliente [8]_ (1 when ζ_s = 0); ``p`` the parameter
+    rows, ``e`` the story's."""
+    n, beta, gamma = p[e, 3], p[e, 4], p[e, 5]
+    a = p[e, 6] - p[e, 7] * eps
+    nu = 1.0 + p[e, 8] * eps
     psi = gamma + (beta if sgn * z > 0.0 else -beta if sgn * z < 0.0 else 0.0)
     az = abs(z)
     zn = az * az if n == 2.0 else az if n == 1.0 else az**n  # pow() is most of the cost
     g = a - nu * psi * zn
-    if p[9] != 0.0:  # a division on every RK4 stage's dependency chain otherwise
-        g /= 1.0 + p[9] * eps
-    zeta_s = p[10]
+    if p[e, 9] != 0.0:  # a division on every RK4 stage's dependency chain otherwise
+        g /= 1.0 + p[e, 9] * eps
+    zeta_s = p[e, 10]
     if zeta_s > 0.0:
         # h = 1 − ζ1 exp(−(ζ sgn − q ζ_u)²/ζ2²), ζ1 = ζ_s (1 − e^(−p ε)), ζ2 = (ψ + δ_ψ ε)(λ + ζ1)
         z_u = (max(a, 0.0) / (nu * (beta + gamma))) ** (1.0 / n)
-        z1 = zeta_s * (1.0 - math.exp(-p[11] * eps))
-        z2 = (p[13] + p[14] * eps) * (p[15] + z1)
-        x = (sgn * z - p[12] * z_u) / z2
+        z1 = zeta_s * (1.0 - math.exp(-p[e, 11] * eps))
+        z2 = (p[e, 13] + p[e, 14] * eps) * (p[e, 15] + z1)
+        x = (sgn * z - p[e, 12] * z_u) / z2
         g *= 1.0 - z1 * math.exp(-x * x)
     return g
 
 
-def bouc_wen_story_finish(d, dx, z, eps, g, sgn, s0, s1, p):
+def bouc_wen_story_finish(d, dx, z, eps, g, sgn, state, trial, p, e):
     """The end of a Bouc–Wen increment dx [m] to drift d at (ζ, ε) with rate g in direction sgn:
-    F = α k δ + (1 − α) F_y ζ, its work and recoverable energy written into ``s1`` (from the
-    committed ``s0``); returns (F − k δ, k_t − k), k_t = α k + (1 − α) k δ_y dζ/dx."""
-    k, fy, alpha = p[0], p[1], p[2]
+    F = α k δ + (1 − α) F_y ζ, its work and recoverable energy written into row ``e`` of
+    ``trial`` (from that of the committed ``state``; ``p`` the parameter rows); returns
+    (F − k δ, k_t − k), k_t = α k + (1 − α) k δ_y dζ/dx."""
+    k, fy, alpha = p[e, 0], p[e, 1], p[e, 2]
     c = 1.0 - alpha
     f = alpha * k * d + c * fy * z
-    s1[SS_F] = f
-    s1[SS_D] = d
-    s1[SS_W] = s0[SS_W] + 0.5 * (s0[SS_F] + f) * dx
-    s1[SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * (fy / k) * z * z
-    s1[SS_Z] = z
-    s1[SS_EPS] = eps
-    s1[SS_G] = g
-    s1[SS_G_DIR] = sgn
+    trial[e, SS_F] = f
+    trial[e, SS_D] = d
+    trial[e, SS_W] = state[e, SS_W] + 0.5 * (state[e, SS_F] + f) * dx
+    trial[e, SS_E] = 0.5 * alpha * k * d * d + 0.5 * c * fy * (fy / k) * z * z
+    trial[e, SS_Z] = z
+    trial[e, SS_EPS] = eps
+    trial[e, SS_G] = g
+    trial[e, SS_G_DIR] = sgn
     return f - k * d, k * (alpha + c * g) - k
 
 
-def make_bouc_wen_story_kernel(rate, finish):
-    """The Bouc–Wen story kernel on a given ``rate`` and ``finish`` (:func:`bouc_wen_story_rate`,
-    :func:`bouc_wen_story_finish`, plain or compiled: numba compiles the kernel with them as
+#: The state columns a Bouc–Wen story writes (F, δ, W, E, ζ, ε, the rate and its direction).
+BW_COLUMNS = 8
+
+
+def bouc_wen_piece(z, x, a, beta, gamma, side, sgn, n2):
+    """ζ after a drift x [δ_y] (direction sgn) from ζ on one side of ζ = 0 (side +1: loading,
+    sgn ζ ≥ 0; −1: unloading) of a Bouc–Wen story with n = 2 (``n2``) or 1 and neither
+    degradation nor pinching, and ∫ζ dx over it; (ζ, 0, False) when x is too long for the series.
+
+    On a side, ψ is constant and ζ' = A + q ζ² (n = 2, q = −ψ) is a Riccati equation: ζ = u/v with
+    (u, v)' = (A v, −q u), so ζ(x) = (C ζ + A S)/(C − q S ζ), C = cosh(λx), S = sinh(λx)/λ,
+    λ² = −A q (cos and sin for λ² < 0; their series in t = λ² x², to round-off for abs(t) ≤ 0.01).
+    With n = 1, ζ' = A + q ζ (q = −ψ sign ζ) is linear: ζ(x) = ζ + x ζ' (eˣᵠ − 1)/(x q). Both exact;
+    ∫ζ dx from the Taylor series of ζ to x⁵."""
+    q = -(gamma + side * beta)
+    if n2:
+        g1 = a + q * z * z
+        t = -a * q * x * x
+        c = 1.0 + t * (0.5 + t * (1 / 24 + t * (1 / 720 + t * (1 / 40320 + t * (1 / 3628800)))))
+        s = x * (
+            1.0
+            + t * (1 / 6 + t * (1 / 120 + t * (1 / 5040 + t * (1 / 362880 + t * (1 / 39916800)))))
+        )
+        den = c - q * s * z
+        if abs(t) > 0.01 or den < 0.5:
+            return z, 0.0, False
+        z1 = (c * z + a * s) / den
+        q *= 2.0
+        z2 = q * z * g1
+        z3 = q * (g1 * g1 + z * z2)
+        z4 = q * (3.0 * g1 * z2 + z * z3)
+    else:
+        q *= side * sgn
+        g1 = a + q * z
+        y = q * x
+        if abs(y) > 0.05:
+            return z, 0.0, False
+        e1 = 1.0 + y * (
+            0.5
+            + y
+            * (
+                1 / 6
+                + y
+                * (
+                    1 / 24
+                    + y
+                    * (
+                        1 / 120
+                        + y * (1 / 720 + y * (1 / 5040 + y * (1 / 40320 + y * (1 / 362880))))
+                    )
+                )
+            )
+        )
+        z1 = z + x * g1 * e1
+        z2 = q * g1
+        z3 = q * z2
+        z4 = q * z3
+    w = x * (z + x * (0.5 * g1 + x * (z2 * (1 / 6) + x * (z3 * (1 / 24) + x * (z4 * (1 / 120))))))
+    return z1, w, True
+
+
+def bouc_wen_zero(z, a, beta, gamma, sgn, n2):
+    """The drift [δ_y] at which ζ (unloading: sgn ζ < 0) of :func:`bouc_wen_piece` reaches 0 (A > 0):
+    C ζ + A S = 0 (n = 2) or (ζ + A/q) e^(q x) = A/q (n = 1)."""
+    q = beta - gamma  # −ψ on the unloading side
+    if n2:
+        lam2 = -a * q
+        if lam2 > 0.0:
+            r = math.sqrt(lam2)
+            y = -r * z / a
+            return math.atanh(y) / r if abs(y) < 1.0 else math.copysign(math.inf, y)
+        if lam2 < 0.0:
+            r = math.sqrt(-lam2)
+            return math.atan(-r * z / a) / r
+        return -z / a
+    q *= -sgn  # −ψ sign ζ, sign ζ = −sgn
+    return -math.log1p(q * z / a) / q if q != 0.0 else -z / a
+
+
+def make_bouc_wen_path(piece, zero):
+    """The exact Bouc–Wen increment of :func:`bouc_wen_piece` over sub-steps and through ζ = 0, on
+    a given ``piece`` and ``zero`` (:func:`bouc_wen_zero`; plain or compiled)."""
+
+    def bouc_wen_path(z, hx, m, a, beta, gamma, sgn, n2):
+        """ζ after m sub-steps of hx [δ_y] from ζ, each split where ζ crosses 0 on the unloading
+        side (ψ changes there), and ∫ζ dx over them; (ζ, 0, False) when a sub-step is too long
+        for the series."""
+        w = 0.0
+        for _ in range(m):
+            x = hx
+            for _ in range(2):  # up to ζ = 0 on the unloading side, then on
+                side = -1.0 if sgn * z < 0.0 else 1.0
+                z1, wx, ok = piece(z, x, a, beta, gamma, side, sgn, n2)
+                rest = 0.0
+                if ok and side < 0.0 and sgn * z1 > 0.0 and a > 0.0:
+                    x0 = zero(z, a, beta, gamma, sgn, n2)
+                    if 0.0 < x0 * sgn < x * sgn:
+                        _, wx, ok = piece(z, x0, a, beta, gamma, side, sgn, n2)
+                        z1 = 0.0
+                        rest = x - x0
+                if not ok:
+                    return z, 0.0, False
+                z = z1
+                w += wx
+                if rest == 0.0:
+                    break
+                x = rest
+        return z, w, True
+
+    return bouc_wen_path
+
+
+def make_bouc_wen_story_exact(piece, path, finish):
+    """The exact Bouc–Wen increment of a story row on a given ``piece``, ``path`` and ``finish``
+    (:func:`bouc_wen_piece`, :func:`make_bouc_wen_path`, :func:`bouc_wen_story_finish`; plain or
+    compiled)."""
+
+    def bouc_wen_story_exact(d, state, trial, p, e):
+        """A Bouc–Wen story with n = 1 or 2 and neither degradation nor pinching (row ``e`` of the
+        committed ``state``, ``trial`` and parameter ``p`` rows) at drift ``d`` [m], each sub-step
+        exact (:func:`bouc_wen_piece`, split where ζ crosses 0 and ψ changes). Returns (True,
+        F − k δ, k_t − k); (False, 0, 0) for other parameters or a sub-step too long for the
+        series (RK4 takes it: :func:`make_bouc_wen_story_row`)."""
+        n = p[e, 3]
+        if not ((n == 2.0 or n == 1.0) and p[e, 7] == p[e, 8] == p[e, 9] == p[e, 10] == 0.0):
+            return False, 0.0, 0.0
+        k, fy, alpha = p[e, 0], p[e, 1], p[e, 2]
+        a, beta, gamma = p[e, 6], p[e, 4], p[e, 5]
+        n2 = n == 2.0
+        dx = d - state[e, SS_D]
+        sgn = 1.0 if dx >= 0.0 else -1.0
+        hx = dx * (k / fy)  # the increment in units of δ_y
+        z = state[e, SS_Z]
+        ok = False
+        if abs(hx) <= BW_STEP:  # most increments of a step: one piece
+            side = -1.0 if sgn * z < 0.0 else 1.0  # at ζ = 0 the path leaves on the loading side
+            z1, w, ok = piece(z, hx, a, beta, gamma, side, sgn, n2)
+            ok = ok and (side > 0.0 or sgn * z1 <= 0.0 or a <= 0.0)
+        if not ok:  # sub-steps, or ζ crossed 0 (where ψ changes)
+            m = max(1, min(int(math.ceil(abs(hx) / BW_STEP)), 100000))
+            z1, w, ok = path(z, hx / m, m, a, beta, gamma, sgn, n2)
+            if not ok:
+                return False, 0.0, 0.0
+        q = -(gamma - beta if sgn * z1 < 0.0 else gamma + beta)  # the rate at the end
+        g = a + q * (z1 * z1 if n2 else abs(z1))
+        eps = state[e, SS_EPS] + (1.0 - alpha) * w  # dε/dx δ_y = (1 − α) ζ
+        g, kd = finish(d, dx, z1, eps, g, sgn, state, trial, p, e)
+        return True, g, kd
+
+    return bouc_wen_story_exact
+
+
+def make_bouc_wen_story_row(rate, finish, exact):
+    """The Bouc–Wen story kernel on rows, on a given ``rate``, ``finish`` and ``exact``
+    (:func:`bouc_wen_story_rate`, :func:`bouc_wen_story_finish`,
+    :func:`make_bouc_wen_story_exact`, plain or compiled: numba compiles the kernel with them as
     constants)."""
 
-    def bouc_wen_story_kernel(d, dd, h, s0, s1, p):
-        """Bouc–Wen story [4]_, [5]_, [8]_: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the
-        drift increment by classical RK4 sub-steps of at most BW_STEP δ_y; tangent
-        α k + (1 − α) k δ_y dζ/dx at the end."""
-        k, fy, alpha = p[0], p[1], p[2]
-        dy = fy / k
-        dx = d - s0[SS_D]
+    def bouc_wen_story_row(d, state, trial, p, e):
+        """Bouc–Wen story [4]_, [5]_, [8]_ of row ``e`` (of the committed ``state``, ``trial`` and
+        parameter ``p`` rows: a view per call costs the element loop its reference counts) at
+        drift ``d`` [m]: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the drift increment in
+        sub-steps of at most BW_STEP δ_y; tangent α k + (1 − α) k δ_y dζ/dx at the end. Returns
+        (F − k δ, k_t − k).
+
+        Exact with n = 1 or 2 and neither degradation nor pinching
+        (:func:`make_bouc_wen_story_exact`); otherwise classical RK4 takes each sub-step."""
+        done, g, kd = exact(d, state, trial, p, e)
+        if done:
+            return g, kd
+        k, fy, alpha = p[e, 0], p[e, 1], p[e, 2]
+        dx = d - state[e, SS_D]
         sgn = 1.0 if dx >= 0.0 else -1.0
-        if abs(dx) <= BW_STEP * dy:
-            m = 1  # most increments of a step
-            hx = dx / dy
-        else:
-            m = max(1, min(int(math.ceil(abs(dx) / (BW_STEP * dy))), 100000))
-            hx = dx / m / dy  # the sub-step in units of δ_y
-        z = s0[SS_Z]
-        eps = s0[SS_EPS]
+        m = max(1, min(int(math.ceil(abs(dx) * k / (BW_STEP * fy))), 100000))
+        hx = dx * (k / fy) / m  # the sub-step in units of δ_y
+        z = state[e, SS_Z]
+        eps = state[e, SS_EPS]
         c = 1.0 - alpha  # dε/dx δ_y = (1 − α) ζ
-        h6 = hx / 6.0  # RK4's weights: no division on the chain from one sub-step to the next
+        h6 = hx * (1.0 / 6.0)  # RK4's weights
         # the rate at the committed state in this direction: the last call's end rate, when it went
         # this way (every trial of a step starts there)
-        g1 = s0[SS_G] if s0[SS_G_DIR] == sgn else rate(z, eps, sgn, p)
+        g1 = state[e, SS_G] if state[e, SS_G_DIR] == sgn else rate(z, eps, sgn, p, e)
         for i in range(m):
             if i > 0:
-                g1 = rate(z, eps, sgn, p)
+                g1 = rate(z, eps, sgn, p, e)
             z2 = z + 0.5 * hx * g1
-            g2 = rate(z2, eps + 0.5 * hx * c * z, sgn, p)
+            g2 = rate(z2, eps + 0.5 * hx * c * z, sgn, p, e)
             z3 = z + 0.5 * hx * g2
-            g3 = rate(z3, eps + 0.5 * hx * c * z2, sgn, p)
+            g3 = rate(z3, eps + 0.5 * hx * c * z2, sgn, p, e)
             z4 = z + hx * g3
-            g4 = rate(z4, eps + hx * c * z3, sgn, p)
+            g4 = rate(z4, eps + hx * c * z3, sgn, p, e)
             eps += h6 * c * (z + 2.0 * z2 + 2.0 * z3 + z4)
             z += h6 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
-        g, kd = finish(d, dx, z, eps, rate(z, eps, sgn, p), sgn, s0, s1, p)
+        return finish(d, dx, z, eps, rate(z, eps, sgn, p, e), sgn, state, trial, p, e)
+
+    return bouc_wen_story_row
+
+
+def make_bouc_wen_story_kernel(row):
+    """The Bouc–Wen story kernel ``kernel(d, dd, h, s0, s1, p)`` of the registry on one state
+    row, on a given row kernel (:func:`make_bouc_wen_story_row`)."""
+
+    def bouc_wen_story_kernel(d, dd, h, s0, s1, p):
+        """Bouc–Wen story [4]_, [5]_, [8]_ (:func:`make_bouc_wen_story_row`) from the committed
+        row ``s0`` into ``s1``."""
+        g, kd = row(d, s0[np.newaxis, :], s1[np.newaxis, :], p[np.newaxis, :], 0)
         return g, kd, 0.0
 
     return bouc_wen_story_kernel
 
 
-bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_rate, bouc_wen_story_finish)
+bouc_wen_story_exact = make_bouc_wen_story_exact(
+    bouc_wen_piece, make_bouc_wen_path(bouc_wen_piece, bouc_wen_zero), bouc_wen_story_finish
+)
+bouc_wen_story_row = make_bouc_wen_story_row(
+    bouc_wen_story_rate, bouc_wen_story_finish, bouc_wen_story_exact
+)
+bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_row)
 
 #: A Bouc–Wen drift this close to the story's trial drift, as a fraction of δ_y, continues that
 #: trial along its rate (:func:`make_bouc_wen_story_near`): the terms dropped are of order
@@ -314,31 +490,31 @@ BW_NEAR = 1e-8
 
 def make_bouc_wen_story_near(rate, finish):
     """The Bouc–Wen story's re-evaluation near its trial drift on a given ``rate`` and ``finish``
-    (plain or compiled, as :func:`make_bouc_wen_story_kernel`)."""
+    (plain or compiled, as :func:`make_bouc_wen_story_row`)."""
 
-    def bouc_wen_story_near(d, s0, s1, p):
-        """A Bouc–Wen story at drift ``d`` [m] within BW_NEAR δ_y of the trial drift in ``s1``,
-        which the kernel wrote from the committed ``s0`` in one sub-step: ζ and ε continue that
-        trial along their rates, ζ = ζ_t + (Δ/δ_y) dζ/dx, ε = ε_t + (Δ/δ_y)(1 − α) ζ_t, and F, the
-        work, E and the tangent follow as in the kernel. Returns (True, F − k δ, k_t − k) then,
-        what the kernel gives from ``s0`` to round-off; (False, 0, 0) otherwise (the kernel takes
-        it). A pass of the fixed-point step re-evaluates each story by a correction of round-off
-        size: this skips its RK4 stages."""
-        k, fy, alpha = p[0], p[1], p[2]
+    def bouc_wen_story_near(d, state, trial, p, e):
+        """A Bouc–Wen story (row ``e``, as :func:`make_bouc_wen_story_row`) at drift ``d`` [m]
+        within BW_NEAR δ_y of the trial drift, which the kernel wrote from the committed state in
+        one sub-step: ζ and ε continue that trial along their rates, ζ = ζ_t + (Δ/δ_y) dζ/dx,
+        ε = ε_t + (Δ/δ_y)(1 − α) ζ_t, and F, the work, E and the tangent follow as in the kernel.
+        Returns (True, F − k δ, k_t − k) then, what the kernel gives from the committed state to
+        round-off; (False, 0, 0) otherwise (the kernel takes it). A pass of the fixed-point step
+        re-evaluates each story by a correction of round-off size: this skips its sub-step."""
+        k, fy, alpha = p[e, 0], p[e, 1], p[e, 2]
         dy = fy / k
-        dx = d - s0[SS_D]
+        dx = d - state[e, SS_D]
         sgn = 1.0 if dx >= 0.0 else -1.0
-        x = (d - s1[SS_D]) / dy
+        x = (d - trial[e, SS_D]) / dy
         if not (
             abs(x) <= BW_NEAR
-            and s1[SS_G_DIR] == sgn
+            and trial[e, SS_G_DIR] == sgn
             and abs(dx) <= BW_STEP * dy
-            and abs(s1[SS_D] - s0[SS_D]) <= BW_STEP * dy
+            and abs(trial[e, SS_D] - state[e, SS_D]) <= BW_STEP * dy
         ):
             return False, 0.0, 0.0
-        z = s1[SS_Z] + x * s1[SS_G]
-        eps = s1[SS_EPS] + x * (1.0 - alpha) * s1[SS_Z]
-        g, kd = finish(d, dx, z, eps, rate(z, eps, sgn, p), sgn, s0, s1, p)
+        z = trial[e, SS_Z] + x * trial[e, SS_G]
+        eps = trial[e, SS_EPS] + x * (1.0 - alpha) * trial[e, SS_Z]
+        g, kd = finish(d, dx, z, eps, rate(z, eps, sgn, p, e), sgn, state, trial, p, e)
         return True, g, kd
 
     return bouc_wen_story_near

@@ -28,7 +28,11 @@ from pounding.stories import (
     STORY_MODELS,
     Stories,
     bilinear_story_kernel,
+    bouc_wen_story_finish,
     bouc_wen_story_kernel,
+    bouc_wen_story_rate,
+    make_bouc_wen_story_kernel,
+    make_bouc_wen_story_row,
 )
 from pounding.structure import IsolationBase, RayleighDamping, ShearBuilding
 from pounding.system import Contact, assemble
@@ -429,27 +433,94 @@ def test_a_study_sweeps_a_story_parameter_and_records_hysteresis_and_collapse(tm
     assert bool(np.isnan(ds["collapse_time"]).all())
 
 
-def _drive_bouc_wen(history: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Run the Bouc–Wen kernel along a drift history; rows (F, ζ, W, E, ε)."""
+def _drive_bouc_wen(history: np.ndarray, p: np.ndarray, kernel=bouc_wen_story_kernel) -> np.ndarray:
+    """Run a Bouc–Wen kernel along a drift history; rows (F, ζ, W, E, ε)."""
     s0, s1 = np.zeros(N_STORY_STATE), np.zeros(N_STORY_STATE)
     out = []
     for d in history:
-        bouc_wen_story_kernel(d, 0.0, 0.01, s0, s1, p)
+        kernel(d, 0.0, 0.01, s0, s1, p)
         out.append((s1[SS_F], s1[SS_Z], s1[SS_W], s1[SS_E], s1[SS_EPS]))
         s0[:] = s1
     return np.array(out)
 
 
+#: The Bouc–Wen kernel with its exact path switched off: classical RK4 for every increment.
+_bouc_wen_rk4 = make_bouc_wen_story_kernel(
+    make_bouc_wen_story_row(
+        bouc_wen_story_rate, bouc_wen_story_finish, lambda d, s0, s1, p, e: (False, 0.0, 0.0)
+    )
+)
+
+
+@pytest.mark.parametrize("rk4", [False, True], ids=["exact", "rk4"])
 @pytest.mark.parametrize("n", [1.0, 2.0])
-def test_bouc_wen_monotonic_loading_follows_the_closed_form(n):
-    # A = 1, β + γ = 1 (units δ_y): n = 1 ζ = 1 − exp(−x); n = 2 ζ = tanh(x)
+def test_bouc_wen_monotonic_loading_follows_the_closed_form(n, rk4):
+    # A = 1, β + γ = 1 (units δ_y): n = 1 ζ = 1 − exp(−x); n = 2 ζ = tanh(x); the exact path
+    # (n = 1, 2 without degradation) to round-off, RK4 in sub-steps of 0.02 δ_y to its order
     k, fy = 1.0e7, 1.0e4
     p = np.array([k, fy, 0.05, n, 0.5, 0.5, 1.0, *np.zeros(N_STORY_PARAMS - 7)])
     x = np.linspace(0.0, 6.0, 61)
-    rows = _drive_bouc_wen(x * fy / k, p)
+    rows = _drive_bouc_wen(x * fy / k, p, _bouc_wen_rk4 if rk4 else bouc_wen_story_kernel)
     zeta = 1.0 - np.exp(-x) if n == 1.0 else np.tanh(x)
-    np.testing.assert_allclose(rows[:, 1], zeta, atol=1e-9)
-    np.testing.assert_allclose(rows[:, 0], 0.05 * k * x * fy / k + 0.95 * fy * zeta, rtol=1e-8)
+    np.testing.assert_allclose(rows[:, 1], zeta, atol=1e-9 if rk4 else 1e-14)
+    f = 0.05 * k * x * fy / k + 0.95 * fy * zeta
+    np.testing.assert_allclose(rows[:, 0], f, rtol=1e-8 if rk4 else 1e-13)
+
+
+def _bouc_wen_zeta_ivp(x: np.ndarray, n: float, beta: float, gamma: float, a: float) -> np.ndarray:
+    """ζ along a drift path x [δ_y] (piecewise linear between samples) by solve_ivp of
+    dζ/dx = A − (β sgn(ẋ ζ) + γ) abs(ζ)^n, each segment integrated apart (its direction fixed),
+    stopped where ζ crosses 0 (ψ changes there)."""
+
+    def rate(_, z, sgn):  # d/ds along the segment's length s: sgn dζ/dx
+        return [sgn * (a - (gamma + beta * np.sign(sgn * z[0])) * abs(z[0]) ** n)]
+
+    def crossing(_, z, sgn):
+        return z[0]
+
+    crossing.terminal = True
+    out, z = [0.0], 0.0
+    for x0, x1 in zip(x[:-1], x[1:], strict=True):
+        sgn = 1.0 if x1 >= x0 else -1.0
+        t0 = 0.0
+        while x1 != x0:
+            sol = solve_ivp(rate, (t0, abs(x1 - x0)), [z], args=(sgn,), method="DOP853",
+                            rtol=1e-13, atol=1e-15, events=crossing if sgn * z < 0.0 else None,
+                            first_step=min(1e-6, abs(x1 - x0) - t0))  # fmt: skip
+            z = float(sol.y[0, -1])
+            if sol.status != 1:
+                break
+            t0, z = float(sol.t_events[0][0]), 0.0  # on, now loading
+        out.append(z)
+    return np.array(out)
+
+
+@pytest.mark.parametrize(
+    ("n", "beta", "gamma", "a"),
+    [(2.0, 0.5, 0.5, 1.0), (2.0, 0.7, 0.3, 1.0), (2.0, 0.3, 0.7, 1.2), (1.0, 0.6, 0.4, 1.0),
+     (1.0, 0.2, 0.8, 0.8), (2.0, 8.0, 6.0, 5.0)],
+    ids=["n2_default", "n2_cos_unloading", "n2_cosh_unloading", "n1", "n1_gamma_high",
+         "n2_stiff_series_limit"],
+)  # fmt: skip
+def test_bouc_wen_cycles_through_zero_match_an_independent_solve_ivp(n, beta, gamma, a):
+    # each unloading passes ζ = 0, where ψ switches: the exact path splits its piece there (in a
+    # sub-stepped increment and in a single piece); the last case's stiff rate (A ψ = 70) passes
+    # the series' limit and takes RK4
+    k, fy = 1.0e7, 1.0e4
+    p = np.array([k, fy, 0.05, n, beta, gamma, a, *np.zeros(N_STORY_PARAMS - 7)])
+    t = np.linspace(0.0, 3.0, 301)
+    # steps of 0.01-0.1 δ_y in cycles of growing amplitude, then single pieces (< 0.02 δ_y)
+    x = np.concatenate(
+        (
+            3.0 * np.sin(2.0 * np.pi * t) * (0.3 + t),
+            2.0 * np.sin(np.linspace(0.0, 2.0 * np.pi, 1201)),
+        )
+    )
+    rows = _drive_bouc_wen(x * fy / k, p)
+    want = _bouc_wen_zeta_ivp(x, n, beta, gamma, a)
+    assert np.ptp(want) > 0.5
+    # (RK4's error in 0.02 δ_y sub-steps at A ψ = 70 is ~1e-5)
+    np.testing.assert_allclose(rows[:, 1], want, atol=5e-5 if a == 5.0 else 1e-11)
 
 
 def test_bouc_wen_cycle_dissipates_its_hysteretic_work():

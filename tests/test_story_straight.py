@@ -235,7 +235,7 @@ def test_a_bouc_wen_story_a_round_off_from_its_trial_equals_the_kernel(case):
         for x in (1e-12, -3e-10, 0.9 * BW_NEAR, -0.9 * BW_NEAR, rng.uniform(-1.0, 1.0) * BW_NEAR):
             near[:] = s1
             d2 = d + x * DY
-            done, g, kd = bouc_wen_story_near(d2, s0, near, p)
+            done, g, kd = bouc_wen_story_near(d2, s0[None], near[None], p[None], 0)
             if abs(d - s0[1]) > 0.02 * DY or (d2 - s0[1]) * (d - s0[1]) <= 0.0:
                 assert not done  # the kernel took sub-steps, or the increment turned
                 continue
@@ -246,12 +246,12 @@ def test_a_bouc_wen_story_a_round_off_from_its_trial_equals_the_kernel(case):
             assert kd == pytest.approx(got[1], rel=1e-12, abs=1e-12 * K)
             assert np.all(np.abs(near - again) <= 1e-12 * (_BW_SCALE + np.abs(again)))
         near[:] = s1
-        assert not bouc_wen_story_near(d + 2.0 * BW_NEAR * DY, s0, near, p)[0]
+        assert not bouc_wen_story_near(d + 2.0 * BW_NEAR * DY, s0[None], near[None], p[None], 0)[0]
         s0[:] = s1
     assert taken > 1000
     # a turn a round-off away: the trial a hair ahead of the committed drift, then a hair behind
     kernel(s0[1] + 0.5 * BW_NEAR * DY, 0.0, 0.01, s0, s1, p)
-    assert not bouc_wen_story_near(s0[1] - 0.4 * BW_NEAR * DY, s0, s1, p)[0]
+    assert not bouc_wen_story_near(s0[1] - 0.4 * BW_NEAR * DY, s0[None], s1[None], p[None], 0)[0]
 
 
 def _elements(model: str, extra: tuple) -> kn.Elements:

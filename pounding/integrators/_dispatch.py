@@ -154,7 +154,17 @@ _bilinear_story = jit(_stories.bilinear_story_kernel)
 # the rate inlined: five calls per drift increment in a dependent chain
 bouc_wen_story_rate = jit_inline(_stories.bouc_wen_story_rate)
 _bouc_wen_finish = jit_inline(_stories.bouc_wen_story_finish)
-_bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_rate, _bouc_wen_finish))
+# on rows: the element loop evaluates every Bouc–Wen story at every step
+_bouc_wen_piece = jit_inline(_stories.bouc_wen_piece)
+_bouc_wen_path = jit(_stories.make_bouc_wen_path(_bouc_wen_piece, jit(_stories.bouc_wen_zero)))
+# inlined into the element loop: its one piece is most steps' whole increment; the rest a call
+bouc_wen_story_exact = jit_inline(
+    _stories.make_bouc_wen_story_exact(_bouc_wen_piece, _bouc_wen_path, _bouc_wen_finish)
+)
+bouc_wen_story_row = jit(
+    _stories.make_bouc_wen_story_row(bouc_wen_story_rate, _bouc_wen_finish, bouc_wen_story_exact)
+)
+_bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_row))
 # inlined into the element loop: a pass re-evaluates each story a round-off away
 bouc_wen_story_near = jit_inline(
     _stories.make_bouc_wen_story_near(bouc_wen_story_rate, _bouc_wen_finish)
@@ -206,6 +216,26 @@ def element_eval(kind, law, d, dd, h, s0, s1, p):
     if law == 1:
         return _viscous_link(d, dd, h, s0, s1, p)
     return _maxwell_link(d, dd, h, s0, s1, p)
+
+
+@jit_inline
+def element_eval_row(kind, law, d, dd, h, state, trial, params, e):
+    """:func:`element_eval` of row ``e`` of the committed ``state``, ``trial`` and ``params``; a
+    Bouc–Wen story, evaluated at every step, by its row kernel (a view per call costs the element
+    loop its reference counts)."""
+    if kind == FAMILY_STORY and law == _BOUC_WEN:
+        done, g, kd = bouc_wen_story_exact(d, state, trial, params, e)
+        if not done:
+            g, kd = bouc_wen_story_row(d, state, trial, params, e)
+        return g, kd, 0.0
+    return element_eval(kind, law, d, dd, h, state[e], trial[e], params[e])
+
+
+@jit_inline
+def written_columns(kind, law, n):
+    """The leading state columns (of ``n``) that a kernel of family ``kind`` and law ``law``
+    writes: a commit copies those."""
+    return _stories.BW_COLUMNS if kind == FAMILY_STORY and law == _BOUC_WEN else n
 
 
 @jit

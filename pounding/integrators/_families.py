@@ -29,7 +29,7 @@ from pounding.integrators._dispatch import (
     bouc_wen_slide,
     bouc_wen_story_near,
     contact_eval,
-    element_eval,
+    element_eval_row,
     element_failed,
     element_stored,
     friction_eval,
@@ -37,6 +37,7 @@ from pounding.integrators._dispatch import (
     has_near,
     has_straight,
     story_straight,
+    written_columns,
 )
 from pounding.integrators._layout import FS_DIR, FS_F1, FS_KF, FS_STUCK, FS_Z0, FS_Z1
 from pounding.system import FRICTION_BOUC_WEN, FRICTION_COULOMB
@@ -163,7 +164,7 @@ def eval_element(el, e, d, dd, h):
     """Element e's kernel at drift d [m] and rate dd [m/s] over a step of h [s], from its committed
     state into its trial row (written); returns (F − k δ, its tangent kd). Called, not inlined:
     a straight step calls it where a story turned, rarely."""
-    f, kd, _ = element_eval(el.kind[e], el.law[e], d, dd, h, el.state[e], el.trial[e], el.params[e])
+    f, kd, _ = element_eval_row(el.kind[e], el.law[e], d, dd, h, el.state, el.trial, el.params, e)
     el.written[e] = True
     return f, kd
 
@@ -188,10 +189,10 @@ def eval_elements_here(u1, v1, h, el):
                 story_straight(d, el.state, el.trial, el.params, e)
                 el.written[e] = False
         elif el.written[e] and has_near(el.kind[e], el.law[e]):
-            done, f, kd = bouc_wen_story_near(d, el.state[e], el.trial[e], el.params[e])
+            done, f, kd = bouc_wen_story_near(d, el.state, el.trial, el.params, e)
         if not done:
-            f, kd, cd = element_eval(
-                el.kind[e], el.law[e], d, dd, h, el.state[e], el.trial[e], el.params[e]
+            f, kd, cd = element_eval_row(
+                el.kind[e], el.law[e], d, dd, h, el.state, el.trial, el.params, e
             )
             el.written[e] = True
         el.d1[e] = d
@@ -303,7 +304,7 @@ def commit_elements(el):
         el.f0[e] = el.f1[e]
         if el.written[e]:
             written = True
-            for j in range(el.state.shape[1]):
+            for j in range(written_columns(el.kind[e], el.law[e], el.state.shape[1])):
                 el.state[e, j] = el.trial[e, j]
             el.written[e] = False
             # (a straight increment leaves a story as it was: failure is a kernel's)

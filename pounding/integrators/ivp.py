@@ -309,7 +309,7 @@ def _story_rhs(y, dy, n, i0, dof, sign, law, params, committed, trial, minv):
             al = params[e, 2]
             z = y[i0 + e]
             corr = al * k * d + (1.0 - al) * fy * z - k * d
-            g = bouc_wen_story_rate(z, y[i0 + ns + e], 1.0 if dd >= 0.0 else -1.0, params[e])
+            g = bouc_wen_story_rate(z, y[i0 + ns + e], 1.0 if dd >= 0.0 else -1.0, params, e)
             dy[i0 + e] = dd / dy_ * g
             dy[i0 + ns + e] = (1.0 - al) * dd * z / dy_
         else:
