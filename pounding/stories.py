@@ -72,8 +72,13 @@ The Bouc–Wen variable is normalised, ζ = z/δ_y (δ_y = F_y/k), so β and γ 
 the degradation acts on the normalised hysteretic energy ε = (1 − α) ∫ζ dδ/δ_y, the work of the
 hysteretic spring over F_y δ_y. OpenSees ``BoucWen``: alpha = α, ko = k, n, gamma = γ/δ_y^n,
 beta = β/δ_y^n, Ao = A, deltaA = δ_A/(F_y δ_y), deltaNu = δ_ν/(F_y δ_y), deltaEta = δ_η/(F_y δ_y).
-ζ and ε are integrated over each drift increment by classical RK4 in sub-steps of at most
-``BW_STEP`` δ_y (the monotonic closed forms are met to 1e-9).
+With n = 1 or 2 and neither degradation nor pinching (Wen's model, the default), each drift
+increment is integrated exactly: on each side of ζ = 0, ψ is constant and dζ/dx = A − ψ abs(ζ)^n
+is a Riccati equation (n = 2: ζ = u/v with (u, v)' = (A v, ψ u), a linear system whose propagator
+is cosh/sinh, or cos/sin) or a linear one (n = 1: an exponential), each summed by its series to
+round-off in sub-steps of at most ``BW_STEP`` δ_y, and an increment through ζ = 0 is split there.
+Otherwise ζ and ε are integrated by classical RK4 in those sub-steps (the monotonic closed forms
+are met to 1e-9).
 
 Recoverable energy of a story is F²/(2k) (unloading at slope k; Takeda F²/(2 k_u)); the rest of
 ∫F dδ is its hysteretic (dissipated) energy E_h = W − F²/(2k), the ledger term ``hysteretic``
