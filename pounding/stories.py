@@ -76,7 +76,8 @@ With n = 1 or 2 and neither degradation nor pinching (Wen's model, the default),
 increment is integrated exactly: on each side of ζ = 0, ψ is constant and dζ/dx = A − ψ abs(ζ)^n
 is a Riccati equation (n = 2: ζ = u/v with (u, v)' = (A v, ψ u), a linear system whose propagator
 is cosh/sinh, or cos/sin) or a linear one (n = 1: an exponential), each summed by its series to
-round-off in sub-steps of at most ``BW_STEP`` δ_y, and an increment through ζ = 0 is split there.
+round-off in sub-steps of at most ``BW_STEP`` δ_y (shorter for a large ψ), and an increment through
+ζ = 0 is split there.
 Otherwise ζ and ε are integrated by classical RK4 in those sub-steps (the monotonic closed forms
 are met to 1e-9).
 
@@ -389,7 +390,7 @@ def make_bouc_wen_story_exact(piece, path, finish):
         """A Bouc–Wen story with n = 1 or 2 and neither degradation nor pinching (row ``e`` of the
         committed ``state``, ``trial`` and parameter ``p`` rows) at drift ``d`` [m], each sub-step
         exact (:func:`bouc_wen_piece`, split where ζ crosses 0 and ψ changes). Returns (True,
-        F − k δ, k_t − k); (False, 0, 0) for other parameters or a sub-step too long for the
+        F − k δ, k_t − k); (False, 0, 0) for other parameters or where ζ grows too fast for the
         series (RK4 takes it: :func:`make_bouc_wen_story_row`)."""
         n = p[e, 3]
         if not ((n == 2.0 or n == 1.0) and p[e, 7] == p[e, 8] == p[e, 9] == p[e, 10] == 0.0):
@@ -401,13 +402,20 @@ def make_bouc_wen_story_exact(piece, path, finish):
         sgn = 1.0 if dx >= 0.0 else -1.0
         hx = dx * (k / fy)  # the increment in units of δ_y
         z = state[e, SS_Z]
+        # sub-steps within the series' range (bouc_wen_piece) for the largest ψ
+        psi = abs(gamma) + abs(beta)
+        h_max = BW_STEP
+        if n2 and a * psi * BW_STEP * BW_STEP > 0.0098:
+            h_max = 0.099 / math.sqrt(a * psi)
+        elif not n2 and psi * BW_STEP > 0.049:
+            h_max = 0.049 / psi
         ok = False
-        if abs(hx) <= BW_STEP:  # most increments of a step: one piece
+        if abs(hx) <= h_max:  # most increments of a step: one piece
             side = -1.0 if sgn * z < 0.0 else 1.0  # at ζ = 0 the path leaves on the loading side
             z1, w, ok = piece(z, hx, a, beta, gamma, side, sgn, n2)
             ok = ok and (side > 0.0 or sgn * z1 <= 0.0 or a <= 0.0)
         if not ok:  # sub-steps, or ζ crossed 0 (where ψ changes)
-            m = max(1, min(int(math.ceil(abs(hx) / BW_STEP)), 100000))
+            m = max(1, min(int(math.ceil(abs(hx) / h_max)), 100000))
             z1, w, ok = path(z, hx / m, m, a, beta, gamma, sgn, n2)
             if not ok:
                 return False, 0.0, 0.0
