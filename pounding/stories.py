@@ -306,22 +306,9 @@ def bouc_wen_piece(z, x, a, beta, gamma, side, sgn, n2):
         y = q * x
         if abs(y) > 0.05:
             return z, 0.0, False
-        e1 = 1.0 + y * (
-            0.5
-            + y
-            * (
-                1 / 6
-                + y
-                * (
-                    1 / 24
-                    + y
-                    * (
-                        1 / 120
-                        + y * (1 / 720 + y * (1 / 5040 + y * (1 / 40320 + y * (1 / 362880))))
-                    )
-                )
-            )
-        )
+        e1 = 1.0  # (eʸ − 1)/y = 1 + y/2 (1 + y/3 (1 + …)), to y⁸/9!
+        for j in range(9, 1, -1):
+            e1 = 1.0 + y * e1 / j
         z1 = z + x * g1 * e1
         z2 = q * g1
         z3 = q * z2

@@ -154,10 +154,10 @@ _bilinear_story = jit(_stories.bilinear_story_kernel)
 # the rate inlined: five calls per drift increment in a dependent chain
 bouc_wen_story_rate = jit_inline(_stories.bouc_wen_story_rate)
 _bouc_wen_finish = jit_inline(_stories.bouc_wen_story_finish)
-# on rows: the element loop evaluates every Bouc–Wen story at every step
 _bouc_wen_piece = jit_inline(_stories.bouc_wen_piece)
 _bouc_wen_path = jit(_stories.make_bouc_wen_path(_bouc_wen_piece, jit(_stories.bouc_wen_zero)))
-# inlined into the element loop: its one piece is most steps' whole increment; the rest a call
+# on rows, inlined into the element loop, which evaluates every Bouc–Wen story at every step: its
+# one piece is most steps' whole increment; sub-steps and zero crossings a call
 bouc_wen_story_exact = jit_inline(
     _stories.make_bouc_wen_story_exact(_bouc_wen_piece, _bouc_wen_path, _bouc_wen_finish)
 )
