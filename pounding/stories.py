@@ -378,7 +378,7 @@ def make_bouc_wen_story_exact(piece, path, finish):
         committed ``state``, ``trial`` and parameter ``p`` rows) at drift ``d`` [m], each sub-step
         exact (:func:`bouc_wen_piece`, split where ζ crosses 0 and ψ changes). Returns (True,
         F − k δ, k_t − k); (False, 0, 0) for other parameters or where ζ grows too fast for the
-        series (RK4 takes it: :func:`make_bouc_wen_story_row`)."""
+        series (RK4 takes it: :func:`make_bouc_wen_story_rk4`)."""
         n = p[e, 3]
         if not ((n == 2.0 or n == 1.0) and p[e, 7] == p[e, 8] == p[e, 9] == p[e, 10] == 0.0):
             return False, 0.0, 0.0
@@ -415,24 +415,17 @@ def make_bouc_wen_story_exact(piece, path, finish):
     return bouc_wen_story_exact
 
 
-def make_bouc_wen_story_row(rate, finish, exact):
-    """The Bouc–Wen story kernel on rows, on a given ``rate``, ``finish`` and ``exact``
-    (:func:`bouc_wen_story_rate`, :func:`bouc_wen_story_finish`,
-    :func:`make_bouc_wen_story_exact`, plain or compiled: numba compiles the kernel with them as
-    constants)."""
+def make_bouc_wen_story_rk4(rate, finish):
+    """The Bouc–Wen story kernel on rows by classical RK4, on a given ``rate`` and ``finish``
+    (:func:`bouc_wen_story_rate`, :func:`bouc_wen_story_finish`, plain or compiled: numba
+    compiles the kernel with them as constants)."""
 
-    def bouc_wen_story_row(d, state, trial, p, e):
+    def bouc_wen_story_rk4(d, state, trial, p, e):
         """Bouc–Wen story [4]_, [5]_, [8]_ of row ``e`` (of the committed ``state``, ``trial`` and
         parameter ``p`` rows: a view per call costs the element loop its reference counts) at
-        drift ``d`` [m]: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the drift increment in
-        sub-steps of at most BW_STEP δ_y; tangent α k + (1 − α) k δ_y dζ/dx at the end. Returns
-        (F − k δ, k_t − k).
-
-        Exact with n = 1 or 2 and neither degradation nor pinching
-        (:func:`make_bouc_wen_story_exact`); otherwise classical RK4 takes each sub-step."""
-        done, g, kd = exact(d, state, trial, p, e)
-        if done:
-            return g, kd
+        drift ``d`` [m]: F = α k δ + (1 − α) F_y ζ, ζ and ε integrated over the drift increment by
+        classical RK4 in sub-steps of at most BW_STEP δ_y; tangent α k + (1 − α) k δ_y dζ/dx at
+        the end. Returns (F − k δ, k_t − k)."""
         k, fy, alpha = p[e, 0], p[e, 1], p[e, 2]
         dx = d - state[e, SS_D]
         sgn = 1.0 if dx >= 0.0 else -1.0
@@ -458,6 +451,22 @@ def make_bouc_wen_story_row(rate, finish, exact):
             z += h6 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
         return finish(d, dx, z, eps, rate(z, eps, sgn, p, e), sgn, state, trial, p, e)
 
+    return bouc_wen_story_rk4
+
+
+def make_bouc_wen_story_row(exact, rk4):
+    """The Bouc–Wen story kernel on rows: ``exact`` (:func:`make_bouc_wen_story_exact`) where it
+    applies, else ``rk4`` (:func:`make_bouc_wen_story_rk4`)."""
+
+    def bouc_wen_story_row(d, state, trial, p, e):
+        """Bouc–Wen story of row ``e`` at drift ``d`` [m] (:func:`make_bouc_wen_story_rk4`), exact
+        with n = 1 or 2 and neither degradation nor pinching (:func:`make_bouc_wen_story_exact`).
+        Returns (F − k δ, k_t − k)."""
+        done, g, kd = exact(d, state, trial, p, e)
+        if done:
+            return g, kd
+        return rk4(d, state, trial, p, e)
+
     return bouc_wen_story_row
 
 
@@ -477,9 +486,8 @@ def make_bouc_wen_story_kernel(row):
 bouc_wen_story_exact = make_bouc_wen_story_exact(
     bouc_wen_piece, make_bouc_wen_path(bouc_wen_piece, bouc_wen_zero), bouc_wen_story_finish
 )
-bouc_wen_story_row = make_bouc_wen_story_row(
-    bouc_wen_story_rate, bouc_wen_story_finish, bouc_wen_story_exact
-)
+bouc_wen_story_rk4 = make_bouc_wen_story_rk4(bouc_wen_story_rate, bouc_wen_story_finish)
+bouc_wen_story_row = make_bouc_wen_story_row(bouc_wen_story_exact, bouc_wen_story_rk4)
 bouc_wen_story_kernel = make_bouc_wen_story_kernel(bouc_wen_story_row)
 
 #: A Bouc–Wen drift this close to the story's trial drift, as a fraction of δ_y, continues that

@@ -32,7 +32,7 @@ from pounding.stories import (
     bouc_wen_story_kernel,
     bouc_wen_story_rate,
     make_bouc_wen_story_kernel,
-    make_bouc_wen_story_row,
+    make_bouc_wen_story_rk4,
 )
 from pounding.structure import IsolationBase, RayleighDamping, ShearBuilding
 from pounding.system import Contact, assemble
@@ -446,9 +446,7 @@ def _drive_bouc_wen(history: np.ndarray, p: np.ndarray, kernel=bouc_wen_story_ke
 
 #: The Bouc–Wen kernel with its exact path switched off: classical RK4 for every increment.
 _bouc_wen_rk4 = make_bouc_wen_story_kernel(
-    make_bouc_wen_story_row(
-        bouc_wen_story_rate, bouc_wen_story_finish, lambda d, s0, s1, p, e: (False, 0.0, 0.0)
-    )
+    make_bouc_wen_story_rk4(bouc_wen_story_rate, bouc_wen_story_finish)
 )
 
 

@@ -161,10 +161,10 @@ _bouc_wen_path = jit(_stories.make_bouc_wen_path(_bouc_wen_piece, jit(_stories.b
 bouc_wen_story_exact = jit_inline(
     _stories.make_bouc_wen_story_exact(_bouc_wen_piece, _bouc_wen_path, _bouc_wen_finish)
 )
-bouc_wen_story_row = jit(
-    _stories.make_bouc_wen_story_row(bouc_wen_story_rate, _bouc_wen_finish, bouc_wen_story_exact)
-)
-_bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(bouc_wen_story_row))
+# what the exact path does not take (degradation, pinching, other n): a call
+bouc_wen_story_rk4 = jit(_stories.make_bouc_wen_story_rk4(bouc_wen_story_rate, _bouc_wen_finish))
+_bouc_wen_row = jit(_stories.make_bouc_wen_story_row(bouc_wen_story_exact, bouc_wen_story_rk4))
+_bouc_wen_story = jit(_stories.make_bouc_wen_story_kernel(_bouc_wen_row))
 # inlined into the element loop: a pass re-evaluates each story a round-off away
 bouc_wen_story_near = jit_inline(
     _stories.make_bouc_wen_story_near(bouc_wen_story_rate, _bouc_wen_finish)
@@ -203,11 +203,18 @@ def element_eval(kind, law, d, dd, h, s0, s1, p):
     """Force and tangents (F, ∂F/∂δ, ∂F/∂δ̇) of an element of family ``kind`` (links, stories)
     with law id ``law`` at the end of a step of length h; writes its trial state s1 from the
     committed s0."""
+    if kind == FAMILY_STORY and law == _BOUC_WEN:
+        return _bouc_wen_story(d, dd, h, s0, s1, p)
+    return element_eval_other(kind, law, d, dd, h, s0, s1, p)
+
+
+@jit_inline
+def element_eval_other(kind, law, d, dd, h, s0, s1, p):
+    """:func:`element_eval` of every element but a Bouc–Wen story (which the Newmark core takes on
+    rows, :func:`element_eval_row`): a dispatch that does not hold it compiles without it."""
     if kind == FAMILY_STORY:
         if law == 1:
             return _bilinear_story(d, dd, h, s0, s1, p)
-        if law == 2:
-            return _bouc_wen_story(d, dd, h, s0, s1, p)
         if law == 3:
             return _takeda_story(d, dd, h, s0, s1, p)
         return _imk_story(d, dd, h, s0, s1, p)
@@ -226,9 +233,9 @@ def element_eval_row(kind, law, d, dd, h, state, trial, params, e):
     if kind == FAMILY_STORY and law == _BOUC_WEN:
         done, g, kd = bouc_wen_story_exact(d, state, trial, params, e)
         if not done:
-            g, kd = bouc_wen_story_row(d, state, trial, params, e)
+            g, kd = bouc_wen_story_rk4(d, state, trial, params, e)
         return g, kd, 0.0
-    return element_eval(kind, law, d, dd, h, state[e], trial[e], params[e])
+    return element_eval_other(kind, law, d, dd, h, state[e], trial[e], params[e])
 
 
 @jit_inline

@@ -29,6 +29,7 @@ from pounding.integrators._dispatch import (
     bouc_wen_slide,
     bouc_wen_story_near,
     contact_eval,
+    element_eval_other,
     element_eval_row,
     element_failed,
     element_stored,
@@ -163,8 +164,11 @@ def eval_elements(u1, v1, h, el):
 def eval_element(el, e, d, dd, h):
     """Element e's kernel at drift d [m] and rate dd [m/s] over a step of h [s], from its committed
     state into its trial row (written); returns (F − k δ, its tangent kd). Called, not inlined:
-    a straight step calls it where a story turned, rarely."""
-    f, kd, _ = element_eval_row(el.kind[e], el.law[e], d, dd, h, el.state, el.trial, el.params, e)
+    a straight step calls it where a story turned, rarely (a story model with straight
+    branches: not Bouc–Wen, :func:`has_straight`)."""
+    f, kd, _ = element_eval_other(
+        el.kind[e], el.law[e], d, dd, h, el.state[e], el.trial[e], el.params[e]
+    )
     el.written[e] = True
     return f, kd
 
