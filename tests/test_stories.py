@@ -465,32 +465,36 @@ def test_bouc_wen_monotonic_loading_follows_the_closed_form(n, rk4):
     np.testing.assert_allclose(rows[:, 0], f, rtol=1e-8 if rk4 else 1e-13)
 
 
-def _bouc_wen_zeta_ivp(x: np.ndarray, n: float, beta: float, gamma: float, a: float) -> np.ndarray:
+def _bouc_wen_zeta_ivp(
+    x: np.ndarray, n: float, beta: float, gamma: float, a: float
+) -> tuple[np.ndarray, np.ndarray]:
     """ζ along a drift path x [δ_y] (piecewise linear between samples) by solve_ivp of
     dζ/dx = A − (β sgn(ẋ ζ) + γ) abs(ζ)^n, each segment integrated apart (its direction fixed),
-    stopped where ζ crosses 0 (ψ changes there)."""
+    stopped where ζ crosses 0 (ψ changes there); with ∫ζ dx along the path."""
 
-    def rate(_, z, sgn):  # d/ds along the segment's length s: sgn dζ/dx
-        return [sgn * (a - (gamma + beta * np.sign(sgn * z[0])) * abs(z[0]) ** n)]
+    def rate(_, z, sgn):  # d/ds along the segment's length s: sgn dζ/dx, sgn ζ
+        return [sgn * (a - (gamma + beta * np.sign(sgn * z[0])) * abs(z[0]) ** n), sgn * z[0]]
 
     def crossing(_, z, sgn):
         return z[0]
 
     crossing.terminal = True
-    out, z = [0.0], 0.0
+    out, z, w = [0.0], 0.0, 0.0
+    out_w = [0.0]
     for x0, x1 in zip(x[:-1], x[1:], strict=True):
         sgn = 1.0 if x1 >= x0 else -1.0
         t0 = 0.0
         while x1 != x0:
-            sol = solve_ivp(rate, (t0, abs(x1 - x0)), [z], args=(sgn,), method="DOP853",
+            sol = solve_ivp(rate, (t0, abs(x1 - x0)), [z, w], args=(sgn,), method="DOP853",
                             rtol=1e-13, atol=1e-15, events=crossing if sgn * z < 0.0 else None,
                             first_step=min(1e-6, abs(x1 - x0) - t0))  # fmt: skip
-            z = float(sol.y[0, -1])
+            z, w = float(sol.y[0, -1]), float(sol.y[1, -1])
             if sol.status != 1:
                 break
             t0, z = float(sol.t_events[0][0]), 0.0  # on, now loading
         out.append(z)
-    return np.array(out)
+        out_w.append(w)
+    return np.array(out), np.array(out_w)
 
 
 @pytest.mark.parametrize(
@@ -515,9 +519,11 @@ def test_bouc_wen_cycles_through_zero_match_an_independent_solve_ivp(n, beta, ga
         )
     )
     rows = _drive_bouc_wen(x * fy / k, p)
-    want = _bouc_wen_zeta_ivp(x, n, beta, gamma, a)
+    want, w = _bouc_wen_zeta_ivp(x, n, beta, gamma, a)
     assert np.ptp(want) > 0.5
     np.testing.assert_allclose(rows[:, 1], want, atol=1e-11)
+    # ε = (1 − α) ∫ζ dx, the series of ζ over each piece
+    np.testing.assert_allclose(rows[:, 4], 0.95 * w, atol=1e-10 * np.max(np.abs(w)))
 
 
 @pytest.mark.parametrize("rk4", [False, True], ids=["exact", "rk4"])
@@ -556,12 +562,14 @@ def test_bouc_wen_tangent_is_the_derivative_of_its_force(rk4, n, beta, gamma, st
     assert kd == pytest.approx((g_hi - g_lo) / (2.0 * eps), abs=tol)
 
 
-def test_bouc_wen_cycle_dissipates_its_hysteretic_work():
+@pytest.mark.parametrize("n", [1.5, 1.0, 2.0], ids=["rk4_n1.5", "exact_n1", "exact_n2"])
+def test_bouc_wen_cycle_dissipates_its_hysteretic_work(n):
     # over closed cycles the loop area ∮F dδ (trapezoidal work of the force) is the hysteretic
-    # spring's own work (1 − α) F_y ∮ζ dδ, which the kernel integrates as ε by RK4
+    # spring's own work (1 − α) F_y ∮ζ dδ, which the kernel integrates as ε: by RK4 (n = 1.5), or
+    # on the exact path by the Taylor series of ζ over each piece (n = 1, 2)
     k, fy = 1.0e7, 1.0e4
     dy = fy / k
-    p = np.array([k, fy, 0.1, 1.5, 0.6, 0.4, 1.0, *np.zeros(N_STORY_PARAMS - 7)])
+    p = np.array([k, fy, 0.1, n, 0.6, 0.4, 1.0, *np.zeros(N_STORY_PARAMS - 7)])
     t = np.linspace(0.0, 3.0, 30001)
     rows = _drive_bouc_wen(4.0 * dy * np.sin(2.0 * np.pi * t), p)
     w_h = rows[-1, 2] - rows[-1, 3]  # work less the recoverable energy (δ back at 0)
