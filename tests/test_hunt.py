@@ -252,6 +252,9 @@ def _kill_after(cmd: list[str], store: Path, runs: int) -> None:
     assert proc.poll() is None, "the IDA ended before the kill"
     proc.kill()
     proc.wait()
+    for pipe in (proc.stdout, proc.stderr):
+        if pipe is not None:
+            pipe.close()
 
 
 def test_a_listed_level_ida_resumes_after_sigkill_without_running_anything_twice(tmp_path):

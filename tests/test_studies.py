@@ -438,6 +438,9 @@ def test_workers_die_when_the_study_process_is_killed(slow, tmp_path, rep):
     assert workers, "no worker processes found"
     proc.kill()  # SIGKILL: no handler runs in the study process
     proc.wait()
+    for pipe in (proc.stdout, proc.stderr):
+        if pipe is not None:
+            pipe.close()
     deadline = time.monotonic() + 5
     while any(_alive(p) for p in workers) and time.monotonic() < deadline:
         time.sleep(0.05)
