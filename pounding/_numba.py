@@ -16,8 +16,11 @@ then keep their cache beside the sources (``__pycache__``) even when ``NUMBA_CAC
 
 from __future__ import annotations
 
+import copy
+import functools
 import hashlib
 from pathlib import Path
+from typing import Any
 
 import numba
 
@@ -110,7 +113,71 @@ def _load_overload(self, sig, target_context):
 
     rtsys.initialize(target_context)
     with self._guard_against_spurious_io_errors():
-        return self._load_overload(sig, target_context)
+        overload = self._load_overload(sig, target_context)
+    if overload is None:  # a miss: numba compiles it next
+        _inline_with_one_memo()
+    return overload
+
+
+class _OneMemoCopy:
+    """The ``copy`` module as numba's inliner sees it while it inlines into a function of this
+    package: consecutive blocks of one scope are deep-copied with one memo.
+
+    numba's ``InlineWorker.inline_ir`` copies the callee's IR block by block, each with a memo of
+    its own, so every block drags a copy of the callee's whole scope (all its variables) along:
+    the work grows as blocks × variables, and an inlined function that itself inlines others is
+    copied in quadratic time (18 s of this package's ~100 s cold compile, ``_take_step`` into the
+    loop alone 7 s). One memo per scope copies each variable once, as one ``copy.deepcopy`` of the
+    whole block map would; the blocks and the code numba builds from them are the same (the
+    compiled object code is byte-identical). A memo numba passes itself is used as given."""
+
+    def __init__(self) -> None:
+        self._scope: object = None
+        self._memo: dict = {}
+
+    def deepcopy(self, x: Any, memo: dict | None = None) -> Any:
+        if memo is not None:
+            return copy.deepcopy(x, memo)
+        scope = getattr(x, "scope", None)
+        if scope is None or scope is not self._scope:
+            self._scope, self._memo = scope, {}
+        return copy.deepcopy(x, self._memo)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(copy, name)
+
+
+_inline_memo_installed = False
+
+
+def _inline_with_one_memo() -> None:
+    """Give numba's inliner :class:`_OneMemoCopy` for each inlining into a function of this package
+    (another module's compilation keeps numba's own copies). Installed at the first cache miss, when
+    numba is about to compile anyway; inert if numba's inliner no longer deep-copies through its
+    module's ``copy``."""
+    global _inline_memo_installed
+    if _inline_memo_installed:
+        return
+    _inline_memo_installed = True
+    from numba.core import inline_closurecall as inliner
+
+    worker = getattr(inliner, "InlineWorker", None)
+    inline_ir = getattr(worker, "inline_ir", None)
+    if inline_ir is None or getattr(inliner, "copy", None) is not copy:
+        return
+
+    @functools.wraps(inline_ir)
+    def inline_ir_one_memo(self, caller_ir, *args, **kwargs):
+        name = getattr(getattr(caller_ir, "func_id", None), "modname", "") or ""
+        if name != __package__ and not name.startswith(__package__ + "."):
+            return inline_ir(self, caller_ir, *args, **kwargs)
+        inliner.copy = _OneMemoCopy()
+        try:
+            return inline_ir(self, caller_ir, *args, **kwargs)
+        finally:
+            inliner.copy = copy
+
+    worker.inline_ir = inline_ir_one_memo
 
 
 def _cached(dispatcher):

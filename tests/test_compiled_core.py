@@ -82,3 +82,66 @@ def test_the_package_locator_stamps_the_kernels_and_only_them():
     loc = ours[1].from_function(newmark_run.py_func, newmark_run.py_func.__code__.co_filename)
     assert loc is not None and loc.get_source_stamp() == _numba.source_stamp()
     assert ours[1].from_function(ast.parse, ast.__file__) is None
+
+
+def _block_then_twice(x):
+    y = 0.0
+    for i in range(3):
+        if x > i:
+            y += x
+    return y
+
+
+def test_the_inliner_memo_copies_a_scope_once_per_function_ir():
+    import copy
+
+    from numba.core.compiler import run_frontend
+
+    blocks = run_frontend(_block_then_twice).blocks
+    assert len(blocks) > 3
+    scope = next(iter(blocks.values())).scope
+    # numba's own copies: one scope per block
+    plain = [copy.deepcopy(b) for b in blocks.values()]
+    assert len({id(b.scope) for b in plain}) == len(blocks)
+    # one memo per scope: the blocks share one new scope, with the same variables
+    one = _numba._OneMemoCopy()
+    shared = [one.deepcopy(b) for b in blocks.values()]
+    assert len({id(b.scope) for b in shared}) == 1 and shared[0].scope is not scope
+    assert set(shared[0].scope.localvars._con) == set(scope.localvars._con)
+    for old, new in zip(blocks.values(), shared, strict=True):
+        assert new is not old and [str(s) for s in new.body] == [str(s) for s in old.body]
+        assert all(a is not b for a, b in zip(old.body, new.body, strict=True))
+    # the blocks of those copies (another scope) get a memo of their own
+    again = [one.deepcopy(b) for b in shared]
+    assert again[0].scope is not shared[0].scope
+    assert len({id(b.scope) for b in again}) == 1
+
+
+def test_the_inliner_memo_acts_on_this_package_s_functions_only(monkeypatch):
+    import sys
+    import types
+
+    import numba
+
+    made = []
+
+    class Counted(_numba._OneMemoCopy):
+        def __init__(self):
+            super().__init__()
+            made.append(self)
+
+    monkeypatch.setattr(_numba, "_OneMemoCopy", Counted)
+    _numba._inline_with_one_memo()
+    source = (
+        "def twice(x):\n    return 2.0 * x if x > 0 else -x\n\n"
+        "def caller(x):\n    return twice(x) + twice(-x)\n"
+    )
+    for name, used in (("not_pounding_probe", False), ("pounding._inline_probe", True)):
+        module = types.ModuleType(name)
+        monkeypatch.setitem(sys.modules, name, module)
+        exec(compile(source, f"<{name}>", "exec"), module.__dict__)
+        module.twice = numba.njit(inline="always")(module.twice)
+        caller = numba.njit(module.caller)
+        made.clear()
+        assert caller(1.5) == 4.5 and caller(-2.0) == 6.0
+        assert bool(made) == used, name
