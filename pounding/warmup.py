@@ -14,8 +14,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-#: Wall time [s] of a cold compilation on the reference machine (2-core AMD EPYC, numba 0.68;
-#: 81-95 s CPU on 2026-11-26 with the link and yielding-story families), quoted in the notice.
+#: Wall time [s] of a cold compilation, quoted in the notice: 78-81 s CPU on a 2-core AMD EPYC
+#: (numba 0.68, 2026-11-28, every path), 111-167 s on a 2-core Intel Xeon at 2.1 GHz.
 COMPILE_SECONDS = 90
 
 
