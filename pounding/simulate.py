@@ -371,10 +371,15 @@ def restitution_warnings(
     system: PoundingSystem, variables: dict[str, Any], opts: AnalysisOptions
 ) -> list[str]:
     """A warning per contact whose law, at the largest approach speed it saw, rebounds more than
-    :data:`E_MISMATCH` away from its nominal e in a free impact, with what to set instead."""
+    :data:`E_MISMATCH` away from its nominal e in a free impact, with what to set instead; or whose
+    impact at that speed would outlast the analysis (a k in the wrong units: the buildings pass
+    through each other instead of rebounding)."""
     el = system.elements
     if not len(el):
         return []
+    time = np.asarray(variables["time"][1], dtype=float)
+    span = float(time[-1] - time[0]) if time.size else 0.0
+    tc_coef, tc_exp = contact_duration_coefficients(system)
     if opts.method == "ivp":  # the check's one free impact goes through the compiled loop
         opts = AnalysisOptions()
     elements = np.asarray(variables["impact_contact"][1], dtype=np.int64)
@@ -382,14 +387,25 @@ def restitution_warnings(
     found = []
     for g, contact in enumerate(system.contacts):
         law = get_contact_law(contact.law)
-        if not law.has_damping or contact.e is None or contact.calibration == "exact":
-            continue
         if law.is_bumper or law.is_filler:  # the layer in the gap sets the rebound, not one e
             continue
         mine = np.isin(elements, np.flatnonzero(el.group == g))
         if not mine.any():
             continue
         i = int(np.argmax(np.where(mine, v0, -np.inf)))
+        c = elements[i]
+        t_c = float(tc_coef[c] * max(float(v0[i]), 1e-3) ** tc_exp[c])
+        if not t_c <= span:
+            n = 1.0 if law.is_bilinear else float(el.el_params[c, 1])
+            found.append(
+                f"contact {contact.left}-{contact.right}: an impact at {v0[i]:.3g} m/s through "
+                f"{law.name} with k = {el.el_params[c, 0]:.3g} N/m^{n:g} would last {t_c:.3g} s, "
+                f"longer than the analysis ({span:g} s): the buildings pass through each other "
+                "instead of rebounding; check k and its units"
+            )
+            continue
+        if not law.has_damping or contact.e is None or contact.calibration == "exact":
+            continue
         e_eff = single_impact_restitution(
             contact, float(el.el_mass[elements[i]]), float(v0[i]), opts
         )

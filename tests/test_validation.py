@@ -8,10 +8,12 @@ floors, ``dt = true`` became 1 s, ``contact = ""`` meant no contacts).
 from __future__ import annotations
 
 import copy
+import json
 import math
 import os
 import signal
 import tomllib
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -211,6 +213,35 @@ def test_fuzzed_case_file_is_refused_in_one_line_or_runs_with_a_closed_ledger(pa
 
 def _timeout(signum, frame):
     raise AssertionError("the analysis took longer than 30 s")
+
+
+def test_two_sdof_with_k_in_the_wrong_units_names_the_impact_that_outlasts_the_analysis():
+    # examples/two_sdof.toml with k = 2.75e3 N/m^1.5 (2.75e9 typed in kN-ish units): the impact
+    # lasts t_c = 2.943275 δ_max/v0, δ_max = (5 m̄ v0²/(4k))^(2/5) (Goldsmith 1960), m̄ = 1e5 kg:
+    # ~13 s at ~1.3 m/s, longer than the 6 s analysis. The run warns, naming k, instead of
+    # integrating a 40 s free impact to check the law's rebound.
+    data = copy.deepcopy(BASE)
+    data["contact"][0]["k"] = 2.75e3
+    ds = simulate(case_from_dict(data))
+    warned = [w for w in json.loads(ds.attrs["warnings"]) if "would last" in w]
+    assert len(warned) == 1 and "k = 2.75e+03 N/m^1.5" in warned[0]
+    assert "longer than the analysis (6 s)" in warned[0] and "check k and its units" in warned[0]
+    v0 = float(warned[0].split("impact at ")[1].split()[0])
+    d_max = (5.0 * 1e5 * v0**2 / (4.0 * 2.75e3)) ** 0.4
+    t_c = float(warned[0].split("would last ")[1].split()[0])
+    assert t_c == pytest.approx(2.943275 * d_max / v0, rel=2e-3)  # v0 printed to 3 digits
+
+
+def test_two_sdof_with_a_subnormal_k_runs_without_an_overflow():
+    # the fuzzer's k = 1e-310 overflowed (n+1) m̄/(2k) in the impact-duration scale: the impact
+    # never ends (t_c = inf, no step limit) and the run says so, without a RuntimeWarning
+    data = copy.deepcopy(BASE)
+    data["contact"][0]["k"] = 1e-310
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ds = simulate(case_from_dict(data))
+    assert any("would last inf s" in w for w in json.loads(ds.attrs["warnings"]))
+    assert ds.attrs["energy_balance_error"] < 1e-6
 
 
 def test_command_line_overrides_are_checked_like_case_keys(tmp_path):
