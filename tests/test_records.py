@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import os
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pounding import synthetic
+from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion, ground_displacement, ground_velocity
 from pounding.records import (
     RECORD_FORMATS,
@@ -135,7 +137,7 @@ def test_units_argument_overrides_and_is_required_for_bare_text():
         ("bad_npts.AT2", 7, "NPTS=13 values"),  # wrong NPTS
         ("bad_text.AT2", 6, "numeric data"),  # text in the data
         ("bad_nan.AT2", 7, "numeric data"),  # NaN
-        ("bad_negative_dt.AT2", 4, "positive time step"),  # negative dt
+        ("bad_negative_dt.AT2", 4, "a time step DT of 1e-06 to 1 s"),  # negative dt
         ("bad_header.AT2", 4, "NPTS"),
         ("bad_text.txt", 5, "numeric data"),
         ("bad_nonuniform.txt", 4, "uniform time step"),
@@ -150,6 +152,95 @@ def test_malformed_files_name_file_line_and_expectation(name, line, expected):
     assert isinstance(err, ValueError)
     assert err.line == line and name in str(err) and f"line {line}" in str(err)
     assert expected in err.expected
+
+
+# the valid fixtures, one per format and quantity, that the fuzzer below perturbs
+_FUZZ_SOURCES = [
+    "peer_new.AT2", "peer_old.AT2", "peer.VT2", "peer.DT2", "cosmos.V2c", "knet.NS",
+    "one_column.txt", "two_column.csv",
+]  # fmt: skip
+_TOKENS = [
+    "nan", "inf", "-inf", "1e309", "1e-320", "0", "-1", "x", "", "1e400", "1,2", "\x00", "é",
+    "NPTS= 0, DT= 0.01 SEC", "NPTS= 2, DT= 1e-320 SEC", "1.0E+00D", "--",
+]  # fmt: skip
+# (operation, line, word, token); lines and words wrap around, the header's lines come first
+_EDIT = st.tuples(
+    st.integers(0, 5), st.integers(0, 60), st.integers(0, 8), st.sampled_from(_TOKENS)
+)
+
+
+def _edited_lines(lines: list[str], edits) -> list[str]:
+    for op, at, word, token in edits:
+        i = at % max(len(lines), 1)
+        if op == 0 and lines:
+            del lines[i]
+        elif op == 1:
+            lines.insert(i, token)
+        elif op == 2 and lines and lines[i].split():
+            words = lines[i].split()
+            words[word % len(words)] = token or "0"
+            lines[i] = " ".join(words)
+        elif op == 3:
+            lines = lines[:i]
+        elif op == 4 and lines:
+            lines[i] += " " + token
+        elif op == 5 and lines:
+            lines.insert(i, lines[i])
+    return lines
+
+
+@settings(max_examples=int(os.environ.get("POUNDING_FUZZ_EXAMPLES", "150")), deadline=None)
+@given(source=st.sampled_from(_FUZZ_SOURCES), edits=st.lists(_EDIT, min_size=1, max_size=3))
+def test_a_perturbed_record_file_is_read_whole_or_refused_in_one_line(
+    tmp_path_factory, source, edits
+):
+    # (campaign of 2026-11-28: a DT of 1e-320 passed the positivity check and was differentiated
+    # to inf; a velocity record of 2 samples reached numpy's gradient and a traceback)
+    import warnings
+
+    lines = (DATA / source).read_text(encoding="latin-1").split("\n")
+    path = tmp_path_factory.mktemp("fuzz") / source
+    path.write_text("\n".join(_edited_lines(lines, edits)), encoding="latin-1")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            gm = read_record(path)
+        except PoundingInputError as exc:
+            assert "\n" not in str(exc)
+            return
+    assert np.isfinite(gm.acceleration).all() and gm.npts >= 2
+    assert 1e-6 <= gm.dt <= 1.0
+
+
+@pytest.mark.parametrize(
+    ("suffix", "quantity", "least"),
+    [("AT2", "ACCELERATION", 2), ("VT2", "VELOCITY", 3), ("DT2", "DISPLACEMENT", 3)],
+)
+def test_a_peer_record_too_short_to_differentiate_names_npts(tmp_path, suffix, quantity, least):
+    unit = {"AT2": "G", "VT2": "CM/S", "DT2": "CM"}[suffix]
+    path = tmp_path / f"short.{suffix}"
+
+    def write(n: int) -> None:
+        header = f"PEER\nshort\n{quantity} TIME SERIES IN UNITS OF {unit}\n"
+        path.write_text(f"{header}NPTS= {n}, DT= .01 SEC\n{' 0.1' * n}\n")
+
+    write(least - 1)
+    with pytest.raises(RecordFormatError) as info:
+        read_record(path)
+    assert info.value.line == 4 and f"NPTS >= {least}" in info.value.expected
+    write(least)
+    assert read_record(path).npts == least
+
+
+@pytest.mark.parametrize("dt", ["1e-320", "1e-7", "2.0"])
+def test_a_record_time_step_outside_1us_to_1s_is_refused(tmp_path, dt):
+    # DT = 1e-320 passed a positivity check and a velocity record was differentiated to inf
+    lines = (DATA / "peer.VT2").read_text().split("\n")
+    lines[3] = lines[3].replace(".0100", dt)
+    (tmp_path / "dt.VT2").write_text("\n".join(lines))
+    with pytest.raises(RecordFormatError) as info:
+        read_record(tmp_path / "dt.VT2")
+    assert info.value.line == 4 and info.value.expected == "a time step DT of 1e-06 to 1 s"
 
 
 def test_nan_in_text_data(tmp_path):

@@ -78,9 +78,15 @@ def _read_lines(path: Path) -> list[str]:
         raise RecordFormatError(path, None, "a text file") from None
 
 
+#: Bounds of a record's time step [s]: accelerographs sample at 20 Hz to a few kHz; a DT outside
+#: is a corrupt header (DT = 1e-320 passed a positivity check and differentiated to inf).
+RECORD_DT_RANGE = (1e-6, 1.0)
+
+
 def _check_dt(dt: float, path: Path, line: int | None, given: float | None) -> float:
-    if not (math.isfinite(dt) and dt > 0):
-        raise RecordFormatError(path, line, "a positive time step DT [s]", dt)
+    low, high = RECORD_DT_RANGE
+    if not (math.isfinite(dt) and low <= dt <= high):
+        raise RecordFormatError(path, line, f"a time step DT of {low:g} to {high:g} s", dt)
     if given is not None and not math.isclose(dt, given, rel_tol=1e-6):
         raise PoundingInputError(f"{path}: dt={given} was given but the file says dt={dt}")
     return dt

@@ -63,6 +63,14 @@ def read_peer(
             ) from None
     if units is not None:
         unit = units
+    # a velocity or displacement is differentiated by second-order differences: 3 points at least
+    least, what = (
+        (2, "an acceleration record")
+        if quantity == "acceleration"
+        else (3, f"a {quantity} record (differentiated by central differences)")
+    )
+    if npts < least:
+        raise RecordFormatError(path, 4, f"NPTS >= {least} for {what}", lines[3])
     values: list[float] = []
     per_line: list[int] = []
     for k, text in enumerate(lines[4:], start=5):
