@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 import os
 import signal
 import subprocess
@@ -224,6 +225,16 @@ def test_every_combination_is_validated_before_anything_runs(tmp_path):
         _study(law=["hretz"])
     with pytest.raises(StudyError, match="the case has no 'building.1.dampng'"):
         _study(**{"building": {"1": {"dampng": {"ratio": [0.1, 0.2]}}}})
+
+
+@pytest.mark.parametrize("history_dt", [math.nan, math.inf, 0.0, -0.01, "0.02", True])
+def test_a_history_dt_that_is_no_finite_positive_step_is_refused_before_any_run(history_dt):
+    # history_dt = nan was accepted and every run then failed in its decimation
+    with pytest.raises(StudyError) as info:
+        _study(law=["hertz"], gap=[0.01], keep_histories=True, history_dt=history_dt)
+    assert str(info.value).endswith(
+        f"study.history_dt = {history_dt!r}; allowed: a finite number > 0 [s]"
+    )
 
 
 def test_failed_runs_are_recorded_and_do_not_stop_the_others(tmp_path):

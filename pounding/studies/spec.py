@@ -313,8 +313,14 @@ def study_from_dict(
     if not isinstance(keep, bool):
         raise StudyError(f"{source}: study.keep_histories = {keep!r}; allowed: true or false")
     history_dt = spec.get("history_dt", 0.02)
-    if isinstance(history_dt, bool) or not isinstance(history_dt, (int, float)) or history_dt <= 0:
-        raise StudyError(f"{source}: study.history_dt = {history_dt!r}; allowed: a number > 0 [s]")
+    if (
+        isinstance(history_dt, bool)
+        or not isinstance(history_dt, (int, float))
+        or not 0 < history_dt < math.inf  # NaN and inf reached the decimation of every run
+    ):
+        raise StudyError(
+            f"{source}: study.history_dt = {history_dt!r}; allowed: a finite number > 0 [s]"
+        )
 
     axes: dict[str, tuple[Any, ...]] = {}
     entries = [(k, v) for k, v in spec.items() if k not in STUDY_OPTIONS]
