@@ -253,14 +253,14 @@ class Contact:
                     f"'elevation' (floors is {self.floors!r})"
                 )
             return
-        for key, low, high, unit in (
-            ("column_share", 0.0, 1.0, ""),
-            ("column_mass", 0.0, math.inf, " [kg]"),
-            ("column_capacity", 0.0, math.inf, " [N]"),
+        # a column node lighter than a floor may be (1 kg) gave an overflowing frequency
+        for key, unit, allowed, ok in (
+            ("column_share", "", "0 < column_share <= 1", lambda v: 0.0 < v <= 1.0),
+            ("column_mass", " [kg]", "1 <= column_mass <= 1e12", lambda v: 1.0 <= v <= 1e12),
+            ("column_capacity", " [N]", "a positive number", lambda v: v > 0.0),
         ):
             value = getattr(self, key)
-            if value is not None and not (low < float(value) <= high):
-                allowed = f"0 < {key} <= 1" if high == 1.0 else "a positive number"
+            if value is not None and not ok(float(value)):
                 raise PoundingInputError(f"{where}: {key} = {value!r}{unit}; allowed: {allowed}")
         tol = self.level_tolerance
         if tol is not None and not (math.isfinite(float(tol)) and float(tol) >= 0.0):

@@ -88,6 +88,15 @@ def test_common_floors_that_do_not_exist_name_the_heights():
     assert "(floors at 3, 6 m)" in str(e.value) and "(3.7, 7.4, 11.1 m)" in str(e.value)
 
 
+@pytest.mark.parametrize("key", ["height", "heights"])
+def test_a_story_height_below_a_centimetre_is_refused(key):
+    # a fuzzed height of 1e-300 m overflowed the stiffness of a column struck between floors
+    data = copy.deepcopy(BASE)
+    data["building"][0][key] = 1e-300 if key == "height" else [1e-300]
+    with pytest.raises(CaseError, match=rf"{key}.*allowed: .*>= 0.01 and <= 1000 \[m\]"):
+        case_from_dict(data)
+
+
 def test_contact_between_non_neighbours_is_rejected():
     data = copy.deepcopy(BASE)
     data["building"].append({"name": "C", "n_floors": 2, "period": 0.4, "mass": 3e5})

@@ -298,6 +298,14 @@ def test_mid_story_errors_name_the_field():
         assemble([a], [Contact("A", "wall", gap=0.01, k=1e9, floors="elevation")])
     with pytest.raises(PoundingInputError, match="column"):
         Contact("A", "B", gap=0.01, k=1e9, floors="common", column_capacity=1e6)
+    # a fuzzed column_mass of 1e-300 kg overflowed the natural frequencies: a node weighs what a
+    # floor may, 1 kg at least
+    for mass in (1e-300, 0.5, math.nan, math.inf):
+        with pytest.raises(PoundingInputError) as info:
+            Contact("A", "B", gap=0.01, k=1e9, floors="elevation", column_mass=mass)
+        assert str(info.value).endswith(
+            f"column_mass = {mass!r} [kg]; allowed: 1 <= column_mass <= 1e12"
+        )
     # the default column mass: a share of the struck story's floor mass
     system = assemble([a, b], [Contact("A", "B", gap=0.01, k=1e9, floors="elevation")])
     assert system.columns.mass[0] == pytest.approx(0.02 * 4.0e5)
