@@ -473,14 +473,20 @@ def step_plan(
 #: about (the mode is integrated, with period elongation; legitimate for a stiff mode that carries
 #: no response, e.g. the superstructure of an isolated building).
 MAX_DT_PERIOD_FRACTION, WARN_DT_PERIOD_FRACTION = 0.5, 0.1
+#: Most time steps of one analysis: ~10-60 min of integration; a model with a period of 2e-7 s
+#: (a 1 kg floor on a 1e15 N/m story) asked for 5e9 steps and hung.
+MAX_STEPS = 10**9
 #: Bytes held per output row and per dof (u, v, a and their Dataset copies) or gap element.
 _BYTES_PER_DOF_ROW, _BYTES_PER_ELEMENT_ROW = 8 * 3 * 3, 8 * 2 * 3
 
 
-def check_plan(system: PoundingSystem, opts: AnalysisOptions, dt: float, n_out: int) -> list[str]:
+def check_plan(
+    system: PoundingSystem, opts: AnalysisOptions, dt: float, n_out: int, n_steps: int
+) -> list[str]:
     """Refuse, before integrating, a given step too long for the structure (dt = 100 s gave
-    all-zero peaks) and a run whose results cannot fit in memory, with the estimate. Returns the
-    warnings (a given step longer than a tenth of the shortest natural period)."""
+    all-zero peaks), a run whose results cannot fit in memory, with the estimate, and a run of
+    more than :data:`MAX_STEPS` steps, with what set the step. Returns the warnings (a given step
+    longer than a tenth of the shortest natural period)."""
     warnings = []
     if opts.dt is not None and opts.method != "ivp":
         t_min = system.shortest_period()
@@ -507,6 +513,23 @@ def check_plan(system: PoundingSystem, opts: AnalysisOptions, dt: float, n_out: 
             f"{system.n_dof} dofs), more than half of this machine's {have / 2**30:.1f} GiB; "
             "allowed: a longer analysis.output_dt, a shorter analysis.duration or fewer floors"
         )
+    if n_steps > MAX_STEPS:
+        many = (
+            f"the analysis would take {n_steps:.3g} steps of {dt:.3g} s, more than {MAX_STEPS:.0e}"
+        )
+        if opts.dt is not None or (opts.output_dt is not None and dt >= opts.output_dt * 0.999):
+            key = "dt" if opts.dt is not None else "output_dt"
+            raise PoundingInputError(
+                f"{many}: set by analysis.{key}; allowed: a longer analysis.{key} or a shorter "
+                "analysis.duration"
+            )
+        periods = system.shortest_periods()
+        i = int(np.argmin(periods))
+        raise PoundingInputError(
+            f"{many}: building {system.buildings[i].name!r} has a natural period of "
+            f"{periods[i]:.3g} s; allowed: the periods of a building (check the units of its "
+            "masses [kg], stiffnesses [N/m], base and soil), or a shorter analysis.duration"
+        )
     return warnings
 
 
@@ -524,7 +547,11 @@ def run(
     """Integrate with validated options; returns the raw result and the provenance of the step choice."""
     ground = ground.starting_from_rest()
     dt, output_dt, every, n_out = step_plan(system, ground, opts)
-    warnings = check_plan(system, opts, dt, n_out)
+    if opts.method == "ivp":  # counted by the Newmark rule: the explicit solver slows alike
+        step, _, every_n, n_n = step_plan(system, ground, opts, ivp_grid=False)
+        warnings = check_plan(system, opts, step, n_out, n_n * every_n)
+    else:
+        warnings = check_plan(system, opts, dt, n_out, n_out * every)
     info = {
         "warnings": warnings,
         "dt": dt,

@@ -164,6 +164,8 @@ BEARING_TYPES: dict[str, str] = {
 }
 
 _BASE_KEYS = ("type", "mass", "friction", "radius")
+#: Smallest friction-pendulum radius [m] (T = 2π √(R/g) = 0.45 s; 1e-12 m asked for 1e8 steps).
+MIN_PENDULUM_RADIUS = 0.05
 
 
 @dataclasses.dataclass(frozen=True, eq=False, init=False)
@@ -228,17 +230,18 @@ class IsolationBase:
                 f"{where}: type = {type!r}; allowed: {', '.join(BEARING_TYPES)}"
             )
         m = finite_number(mass, f"{where}: mass", "kg")
-        if not m > 0.0:
-            raise PoundingInputError(f"{where}: mass = {mass!r} kg; allowed: positive and finite")
+        if not m >= 1.0:  # as a floor's: a lighter slab's frequency has no bound
+            raise PoundingInputError(f"{where}: mass = {mass!r} kg; allowed: a finite number >= 1")
         if type == "friction_pendulum":
             if radius is None:
                 raise PoundingInputError(
                     f"{where}: radius [m] is required for a friction_pendulum (typical 1-4 m)"
                 )
             radius = finite_number(radius, f"{where}: radius", "m")
-            if not radius > 0.0:
+            if not radius >= MIN_PENDULUM_RADIUS:
                 raise PoundingInputError(
-                    f"{where}: radius = {radius!r} m; allowed: positive and finite"
+                    f"{where}: radius = {radius!r} m; allowed: a finite number >= "
+                    f"{MIN_PENDULUM_RADIUS:g} m (typical 1-4 m)"
                 )
         elif radius is not None:
             raise PoundingInputError(

@@ -589,11 +589,15 @@ class PoundingSystem:
         a building on soil with its foundation's sway and rocking, one with struck columns with
         their impact nodes.
         """
-        periods = [float(b.modal().periods.min()) for b in self.buildings]
+        return float(self.shortest_periods().min())
+
+    def shortest_periods(self) -> np.ndarray:
+        """Shortest natural period [s] of each building, as :meth:`shortest_period` counts it."""
+        periods = np.array([float(b.modal().periods.min()) for b in self.buildings])
         for i, b in enumerate(self.buildings):
             if b.isolated or b.flexible_base or np.any(self.columns.building == i):
-                periods.append(float(self.building_periods(i).min()))
-        return min(periods)
+                periods[i] = min(periods[i], float(self.building_periods(i).min()))
+        return periods
 
     def building_dofs(self, building: int) -> slice:
         """The consecutive dofs of a building: [base slab | sway, rocking] and its floors."""

@@ -613,7 +613,11 @@ def test_case_file_base_table_exactly_as_the_issue():
         ({"radius": None}, r"radius \[m\] is required for a friction_pendulum"),
         ({"type": "flat"}, r"radius = 2.2 applies to type 'friction_pendulum' only"),
         ({"mass": None}, r"building\[0\]\.base\.mass \[kg\] .* is required"),
-        ({"mass": -1.0}, r"mass = -1.0 kg; allowed: positive"),
+        ({"mass": -1.0}, r"mass = -1.0 kg; allowed: a finite number >= 1"),
+        # fuzzed: a 1e-12 m pendulum (T = 2 µs) asked for 1e8 steps; a 1e-300 m one overflowed
+        ({"radius": 1e-12}, r"radius = 1e-12 m; allowed: a finite number >= 0.05 m"),
+        ({"radius": 0.049}, r"radius = 0.049 m; allowed: a finite number >= 0.05 m"),
+        ({"mass": 1e-300}, r"mass = 1e-300 kg; allowed: a finite number >= 1"),
         ({"u_y": 0.0}, r"Bouc-Wen: u_y = 0.0 \[m\]; allowed: finite, > 0"),
     ],
 )
