@@ -754,11 +754,18 @@ def _check_damping(damping: float) -> float:
     return damping
 
 
+#: Oscillator periods [s] a spectrum is computed at: a period of 1e300 s divided by zero in the
+#: oscillator's step, one of 1e9 s would sub-step its free vibration for hours and one of 1e-7 s
+#: a 0.02 s record (T/100 sub-steps); 1e-5 s stands in for T = 0 (Sa = PGA).
+PERIOD_RANGE = (1e-5, 100.0)
+
+
 def _check_periods(periods: Any) -> np.ndarray:
     p = np.atleast_1d(np.asarray(periods, dtype=float))
-    if p.ndim != 1 or p.size == 0 or not np.all(np.isfinite(p)) or np.any(p <= 0):
+    low, high = PERIOD_RANGE
+    if p.ndim != 1 or p.size == 0 or not np.all((p >= low) & (p <= high)):
         raise PoundingInputError(
-            f"periods must be a non-empty 1-D array of positive values [s], got {p}"
+            f"periods must be a non-empty 1-D array of values from {low:g} to {high:g} [s], got {p}"
         )
     return p
 

@@ -27,13 +27,12 @@ References
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from pounding.errors import PoundingInputError
-from pounding.ground_motion import GroundMotion
+from pounding.ground_motion import PERIOD_RANGE, GroundMotion
 from pounding.integrators.sdof import spectral_peaks
 
 #: Intensity measures by name, with what they are.
@@ -46,11 +45,12 @@ MEASURES = {
 SA_AVG_PERIODS = 10
 
 
-def _positive(value: object, field: str, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise PoundingInputError(f"{field} = {value!r}; allowed: a number > 0 [{unit}]")
-    if value <= 0.0:
-        raise PoundingInputError(f"{field} = {value!r}; allowed: a number > 0 [{unit}]")
+def _period(value: object, field: str) -> float:
+    low, high = PERIOD_RANGE
+    if isinstance(value, bool) or not isinstance(value, int | float) or not low <= value <= high:
+        raise PoundingInputError(
+            f"{field} = {value!r}; allowed: a number >= {low:g} and <= {high:g} [s]"
+        )
     return float(value)
 
 
@@ -86,10 +86,10 @@ class IntensityMeasure:
         if not (isinstance(self.damping, int | float) and 0.0 <= self.damping < 1.0):
             raise PoundingInputError(f"damping = {self.damping!r}; allowed: 0 <= ζ < 1")
         if self.measure == "sa":
-            _positive(self.period, "period", "s")
+            _period(self.period, "period")
         if self.measure == "sa_avg":
-            low = _positive(self.period_low, "period_low", "s")
-            high = _positive(self.period_high, "period_high", "s")
+            low = _period(self.period_low, "period_low")
+            high = _period(self.period_high, "period_high")
             if high <= low:
                 raise PoundingInputError(
                     f"period_high = {high:g} s must exceed period_low = {low:g} s"

@@ -115,7 +115,19 @@ def test_parametric_stripe_bootstrap_brackets_the_fit():
         # none, then 2 of 3, then all: the likelihood grows as β → 0 (a step at the median)
         (lambda: fit_stripes([0.5, 1.0, 1.5], [3, 3, 3], [0, 2, 3]), "dispersion cannot be"),
         (lambda: IntensityMeasure("sa_t1"), "allowed: pga, sa, sa_avg"),
-        (lambda: IntensityMeasure("sa"), "period = None; allowed: a number > 0 [s]"),
+        (
+            lambda: IntensityMeasure("sa"),
+            "period = None; allowed: a number >= 1e-05 and <= 100 [s]",
+        ),
+        # an IDA's im period of 1e300 s divided by zero in the spectrum's oscillator (fuzzed)
+        (
+            lambda: IntensityMeasure("sa", period=1e300),
+            "period = 1e+300; allowed: a number >= 1e-05",
+        ),
+        (
+            lambda: IntensityMeasure("sa_avg", period_low=1e-300, period_high=1.0),
+            "period_low = 1e-300; allowed: a number >= 1e-05 and <= 100 [s]",
+        ),
     ],
 )
 def test_bad_fragility_and_intensity_input_is_refused_naming_the_field(call, message):

@@ -204,7 +204,14 @@ def test_response_spectra_stacks_records(random_record):
 
 @pytest.mark.parametrize(
     ("kwargs", "field"),
-    [({"damping": 1.0}, "damping"), ({"periods": [0.1, -1.0]}, "periods")],
+    [
+        ({"damping": 1.0}, "damping"),
+        ({"periods": [0.1, -1.0]}, "periods"),
+        # 1e300 s divided by zero in the oscillator's step; 1e9 s would sub-step for hours
+        ({"periods": [1e300]}, r"periods .* from 1e-05 to 100 \[s\]"),
+        ({"periods": [0.5, 1e9]}, r"periods .* from 1e-05 to 100 \[s\]"),
+        ({"periods": [1e-7]}, r"periods .* from 1e-05 to 100 \[s\]"),
+    ],
 )
 def test_bad_input_names_the_field(random_record, kwargs, field):
     with pytest.raises(ValueError, match=field):
