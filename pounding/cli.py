@@ -302,7 +302,7 @@ def run(
     # plain arrays, no xr.Dataset: xarray and pandas would be ~0.3 s of a ~1 s run
     from pounding import _netcdf
     from pounding.case import load_case
-    from pounding.simulate import simulate_variables
+    from pounding.simulate import simulate_variables, with_overrides
 
     loaded = load_case(case)
     overrides = {
@@ -310,6 +310,7 @@ def run(
         for k, v in {"method": method, "dt": dt, "output_dt": output_dt}.items()
         if v is not None
     }
+    with_overrides(loaded.analysis, overrides)  # a bad --dt is refused before any compiling
     if (method or loaded.analysis.method) != "ivp":
         _preload_cython_blas()
         _compile_notice()
@@ -564,6 +565,7 @@ def separation(
         load_separation_case,
         separation_analysis,
     )
+    from pounding.simulate import with_overrides
 
     loaded, options = load_separation_case(case)
     flags = {
@@ -586,6 +588,7 @@ def separation(
     table.update({k: v for k, v in flags.items() if v is not None})
     options = SeparationOptions.from_mapping(table)
     overrides = {k: v for k, v in {"method": method, "dt": dt}.items() if v is not None}
+    with_overrides(loaded.analysis, overrides)  # a bad --dt is refused before any compiling
     # fixed-base buildings take the exact modal solution; only isolated ones run the Newmark loop
     isolated = any(b.base is not None for b in loaded.buildings)
     if isolated and (method or loaded.analysis.method) != "ivp":

@@ -269,16 +269,21 @@ def _resolve(case_or_system: Any, ground: GroundMotion | None, options: dict[str
             raise TypeError(
                 "simulate() takes a case (pounding.load_case) or a PoundingSystem and a GroundMotion"
             )
-    analysis = case_or_system.analysis
-    if options:  # overrides (the command line's --dt ...) are checked like the case file's keys
-        merged = {**dataclasses.asdict(analysis), **options}
-        analysis = AnalysisOptions.from_mapping({k: v for k, v in merged.items() if v is not None})
     return (
         case_or_system.system,
         ground if ground is not None else case_or_system.ground_motion,
-        analysis,
+        with_overrides(case_or_system.analysis, options),
         getattr(case_or_system, "title", ""),
     )
+
+
+def with_overrides(analysis: AnalysisOptions, options: dict[str, Any]) -> AnalysisOptions:
+    """``analysis`` with ``options`` (the command line's --dt ...) set, checked like the case
+    file's keys: the command line calls it before compiling anything."""
+    if not options:
+        return analysis
+    merged = {**dataclasses.asdict(analysis), **options}
+    return AnalysisOptions.from_mapping({k: v for k, v in merged.items() if v is not None})
 
 
 def simulate(

