@@ -113,7 +113,10 @@ def test_study_fragility_equals_the_fits_applied_to_its_runs(ida_run):
         ({"levels": None}, "ida.levels is missing"),
         ({"im": "sa_t1"}, "allowed: pga, sa, sa_avg"),
         ({"im": {"measure": "sa", "building": "Z"}}, "study.im.building = 'Z'; allowed: A"),
-        ({"levels": [0.5, -1.0]}, "im_level value -1.0; allowed: a number > 0 [g]"),
+        ({"levels": [0.5, -1.0]}, "im_level value -1.0; allowed: a number > 0 and <= 100 [g]"),
+        # (fuzzed: a level of 1e300 g ran, every record collapsing at once)
+        ({"levels": [1e300]}, "im_level value 1e+300; allowed: a number > 0 and <= 100 [g]"),
+        ({"im": {"measure": "sa", "period": 1e300}}, "period = 1e+300; allowed: a number >= 1e-05"),
         ({"limit_states": ["collapse", "yield"]}, "limit_states value 'yield'"),
         ({"scale": [1.0, 2.0]}, "cannot be combined with study.scale"),
     ],

@@ -223,6 +223,8 @@ def test_every_combination_is_validated_before_anything_runs(tmp_path):
         _study(gap=0.01)
     with pytest.raises(StudyError, match="unknown contact law 'hretz'"):
         _study(law=["hretz"])
+    with pytest.raises(StudyError, match=r"study.scale value 1e\+300; allowed: \|scale\| <= 1000"):
+        _study(scale=[1.0, 1e300])
     with pytest.raises(StudyError, match="the case has no 'building.1.dampng'"):
         _study(**{"building": {"1": {"dampng": {"ratio": [0.1, 0.2]}}}})
 

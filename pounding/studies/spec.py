@@ -26,6 +26,9 @@ from pounding.units import G
 
 #: Axes with a meaning of their own; any other axis is a dotted path into the case.
 NAMED_AXES = ("law", "gap", "e", "k", "record", "scale", "im_level")
+#: Largest record scale factor and intensity level [g] of a study (a record at 100 g collapses any
+#: building; 1e300 g was accepted).
+MAX_SCALE, MAX_IM_LEVEL = 1000.0, 100.0
 #: Keys of ``[study]`` that are options, not axes.
 STUDY_OPTIONS = (
     "law_params",
@@ -217,11 +220,13 @@ def _axis_values(name: str, value: Any, where: str) -> tuple[Any, ...]:
     return tuple(value)
 
 
-def _check_number(name: str, values: Sequence[Any], where: str, low: float, what: str) -> None:
+def _check_number(
+    name: str, values: Sequence[Any], where: str, low: float, what: str, high: float = math.inf
+) -> None:
     for v in values:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v)):
             raise StudyError(f"{where}: study.{name} value {v!r}; allowed: {what}")
-        if v < low or (low == 0.0 and name != "gap" and v == 0.0):
+        if v < low or v > high or (low == 0.0 and name != "gap" and v == 0.0):
             raise StudyError(f"{where}: study.{name} value {v!r}; allowed: {what}")
 
 
@@ -358,8 +363,14 @@ def study_from_dict(
     if any(v > 1 for v in axes.get("e", ())):
         raise StudyError(f"{source}: study.e values {axes['e']}; allowed: 0 < e <= 1")
     _check_number("k", axes.get("k", ()), source, 0.0, "a number > 0 [N/m^n]")
-    _check_number("scale", axes.get("scale", ()), source, -math.inf, "a finite number")
-    _check_number("im_level", axes.get("im_level", ()), source, 0.0, "a number > 0 [g]")
+    # a record scaled by 1e300 or to 1e300 g is a typing error, not a stripe of an IDA
+    _check_number(
+        "scale", axes.get("scale", ()), source, -MAX_SCALE, f"|scale| <= {MAX_SCALE:g}", MAX_SCALE
+    )
+    _check_number(
+        "im_level", axes.get("im_level", ()), source, 0.0,
+        f"a number > 0 and <= {MAX_IM_LEVEL:g} [g]", MAX_IM_LEVEL,
+    )  # fmt: skip
     hunt = None
     if "hunt" in spec:
         try:
