@@ -211,6 +211,74 @@ def test_fuzzed_case_file_is_refused_in_one_line_or_runs_with_a_closed_ledger(pa
     assert np.isfinite(ds["displacement"].values[:, :, 0]).all()
 
 
+# --- the same over every key of the examples with yielding stories, bumpers, soil, bearings and
+# struck columns (campaign of 2026-11-28: heights, column masses, soil masses and pendulum radii of
+# 1e-300 overflowed or asked for 1e150 steps; a 1 kg floor on a 1e15 N/m story hung) ---
+
+_EXAMPLES = [
+    "three_vs_eight_yielding", "bumper", "soft_soil", "base_isolated_moat", "floor_to_column",
+    "building_wall",
+]  # fmt: skip
+
+
+def _leaves(node, path=()):
+    """Paths of the values of a parsed case (a list of tables is walked, a list of numbers is one)."""
+    if isinstance(node, dict):
+        for key, value in node.items():
+            yield from _leaves(value, (*path, key))
+    elif isinstance(node, list) and node and all(isinstance(v, dict) for v in node):
+        for i, value in enumerate(node):
+            yield from _leaves(value, (*path, i))
+    elif path and path[0] not in ("title", "study", "ida"):
+        yield path
+
+
+def _example(name: str) -> dict:
+    data = tomllib.loads((ROOT / "examples" / f"{name}.toml").read_text())
+    data.setdefault("analysis", {})["duration"] = 1.0  # s: a fuzzed stiff model runs in the alarm
+    return data
+
+
+_EXAMPLE_PATHS = [(name, path) for name in _EXAMPLES for path in _leaves(_example(name))]
+#: A value or a factor on the value there (numbers out of their plausible range by decades).
+_EXAMPLE_VALUES = st.one_of(
+    _VALUES, st.tuples(st.just("x"), st.sampled_from([0, 1e-300, 1e-6, 1e-3, 1e3, 1e6, -1]))
+)
+
+
+@settings(max_examples=int(os.environ.get("POUNDING_FUZZ_EXAMPLES", "150")), deadline=None)
+@given(where=st.sampled_from(_EXAMPLE_PATHS), value=_EXAMPLE_VALUES)
+def test_fuzzed_example_is_refused_in_one_line_or_runs_without_a_numpy_warning(where, value):
+    name, path = where
+    data = _example(name)
+    if isinstance(value, tuple):  # a factor on the number(s) there
+        node = data
+        for key in path:
+            node = node[key]
+        factor = value[1]
+        if isinstance(node, bool) or not isinstance(node, int | float | list):
+            return
+        value = [v * factor for v in node] if isinstance(node, list) else node * factor
+    data = edited(data, path, value)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        try:
+            case = case_from_dict(data)
+        except (CaseError, FileNotFoundError) as exc:  # (a record reference to no file)
+            assert "\n" not in str(exc)
+            return
+        signal.signal(signal.SIGALRM, _timeout)
+        signal.alarm(30)
+        try:
+            ds = simulate(case)
+        except PoundingError as exc:
+            assert "\n" not in str(exc)
+            return
+        finally:
+            signal.alarm(0)
+    assert ds.attrs["energy_balance_error"] < 1e-2
+
+
 def _timeout(signum, frame):
     raise AssertionError("the analysis took longer than 30 s")
 
