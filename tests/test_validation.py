@@ -242,11 +242,17 @@ def _leaves(node, path=()):
 
 def _example(name: str) -> dict:
     data = tomllib.loads((ROOT / "examples" / f"{name}.toml").read_text())
-    data.setdefault("analysis", {})["duration"] = 1.0  # s: a fuzzed stiff model runs in the alarm
+    # s: a valid model made 1e6 times stiffer takes 1e3 times more steps; they end within the alarm
+    data.setdefault("analysis", {})["duration"] = 0.05
     return data
 
 
-_EXAMPLE_PATHS = [(name, path) for name in _EXAMPLES for path in _leaves(_example(name))]
+_EXAMPLE_PATHS = [
+    (name, path)
+    for name in _EXAMPLES
+    for path in _leaves(_example(name))
+    if path != ("analysis", "duration")  # pinned above (7130 s ran past the alarm)
+]
 #: A value or a factor on the value there (numbers out of their plausible range by decades).
 _EXAMPLE_VALUES = st.one_of(
     _VALUES, st.tuples(st.just("x"), st.sampled_from([0, 1e-300, 1e-6, 1e-3, 1e3, 1e6, -1]))
