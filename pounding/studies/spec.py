@@ -230,6 +230,15 @@ def _check_number(
             raise StudyError(f"{where}: study.{name} value {v!r}; allowed: {what}")
 
 
+def _history_dt(value: Any, source: str) -> float:
+    """``study.history_dt`` [s], finite and positive (NaN reached the decimation of every run)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < math.inf:
+        raise StudyError(
+            f"{source}: study.history_dt = {value!r}; allowed: a finite number > 0 [s]"
+        )
+    return float(value)
+
+
 def _law_name(value: Any, where: str) -> str:
     if value == NO_CONTACT:
         return NO_CONTACT
@@ -317,15 +326,7 @@ def study_from_dict(
     keep = spec.get("keep_histories", False)
     if not isinstance(keep, bool):
         raise StudyError(f"{source}: study.keep_histories = {keep!r}; allowed: true or false")
-    history_dt = spec.get("history_dt", 0.02)
-    if (
-        isinstance(history_dt, bool)
-        or not isinstance(history_dt, (int, float))
-        or not 0 < history_dt < math.inf  # NaN and inf reached the decimation of every run
-    ):
-        raise StudyError(
-            f"{source}: study.history_dt = {history_dt!r}; allowed: a finite number > 0 [s]"
-        )
+    history_dt = _history_dt(spec.get("history_dt", 0.02), source)
 
     axes: dict[str, tuple[Any, ...]] = {}
     entries = [(k, v) for k, v in spec.items() if k not in STUDY_OPTIONS]
