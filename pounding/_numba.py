@@ -38,6 +38,7 @@ COMPILED_SOURCES = (
     "integrators/_families.py",
     "integrators/_steps.py",
     "integrators/_ledger.py",
+    "integrators/base.py",  # PATH_POINTS, read by the compiled impact log
     "links.py",
     "stories.py",
     "integrators/ivp.py",

@@ -313,7 +313,7 @@ def run(
     with_overrides(loaded.analysis, overrides)  # a bad --dt is refused before any compiling
     if (method or loaded.analysis.method) != "ivp":
         _preload_cython_blas()
-        _compile_notice()
+        _compile_notice(loaded.system)
     result = simulate_variables(loaded, baseline=baseline, **overrides)
     _link_cython_blas()
     if output:
@@ -592,7 +592,9 @@ def separation(
     # fixed-base buildings take the exact modal solution; only isolated ones run the Newmark loop
     isolated = any(b.base is not None for b in loaded.buildings)
     if isolated and (method or loaded.analysis.method) != "ivp":
-        _compile_notice()
+        from pounding.system import assemble
+
+        _compile_notice(assemble(loaded.system.buildings))  # the buildings alone, no contact
     ds = separation_analysis(loaded, options=options, **overrides)
     if output:
         save(ds, output)
@@ -713,7 +715,8 @@ def _run_study_command(
             "truncated history file): run again"
         )
     if plan.todo and scheduler is None:
-        _compile_notice()  # here, once: the workers then load the kernels from the cache
+        # here, once: the workers then load the kernels from the cache
+        _compile_notice(cores={plan.tasks[key]["core"] for key in plan.todo})
     try:
         with stop_on_signals():
             ds = run_study(plan, jobs=jobs, scheduler=scheduler, progress=_ProgressBar())
@@ -760,7 +763,9 @@ def _run_hunt_command(
         + f"; {hunt.limit_state} bracketed to {hunt.tolerance:g} g"
     )
     if scheduler is None:
-        _compile_notice()
+        from pounding.studies.plan import study_cores
+
+        _compile_notice(cores=study_cores(loaded))
     try:
         with stop_on_signals():
             ds = run_hunt(
@@ -1210,11 +1215,14 @@ def _exit_now(code: int) -> None:
     os._exit(code)
 
 
-def _compile_notice() -> None:
-    """On a cold numba cache, say so on stderr and compile the kernels before the analysis starts."""
+def _compile_notice(*systems: Any, cores: set[str] | None = None) -> None:
+    """On a cold numba cache, say so on stderr and compile the cores of the Newmark kernels that
+    ``systems`` need (or ``cores``) before the analysis starts."""
+    from pounding.integrators.base import compiled_core
     from pounding.warmup import ensure_compiled
 
-    ensure_compiled(announce=lambda message: typer.echo(message, err=True))
+    needed = set(cores or ()) | {compiled_core(system) for system in systems}
+    ensure_compiled(announce=lambda m: typer.echo(m, err=True), cores=tuple(sorted(needed)))
 
 
 @app.command()
@@ -1224,11 +1232,12 @@ def warmup(
     ),
 ) -> None:
     """Compile the numerical kernels now (once after installing or upgrading) and show the cache."""
+    from pounding.integrators.base import CORES
     from pounding.warmup import cache_dir, is_warm, notice, warm_up
 
-    cold = not is_warm()
-    if cold:
-        typer.echo(notice(), err=True)
+    cold = [core for core in CORES if not is_warm(core)]
+    for core in cold:
+        typer.echo(notice(core), err=True)
     seconds = warm_up(every_path=every_path)
     state = "compiled" if cold else "already cached: loaded"
     typer.echo(f"numerical kernels {state} in {seconds:.1f} s; cache in {cache_dir()}")

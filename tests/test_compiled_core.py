@@ -145,3 +145,78 @@ def test_the_inliner_memo_acts_on_this_package_s_functions_only(monkeypatch):
         made.clear()
         assert caller(1.5) == 4.5 and caller(-2.0) == 6.0
         assert bool(made) == used, name
+
+
+EXAMPLES = ROOT.parent / "examples"
+
+
+def _simulated(name, monkeypatch, lean, **options):
+    import pounding
+    from pounding.integrators import newmark
+
+    monkeypatch.setattr(newmark, "LEAN_CORE", lean)
+    case = pounding.load_case(EXAMPLES / name)
+    return pounding.simulate(case, **options)
+
+
+@pytest.mark.parametrize(
+    ("name", "options"),
+    [("three_vs_eight_story.toml", {}), ("two_sdof.toml", {"method": "hht", "duration": 3.0})],
+)
+def test_gaps_alone_take_the_core_compiled_without_families_with_the_whole_core_s_results(
+    name, options, monkeypatch
+):
+    # the core of gaps alone is the whole core with its friction and family code dropped: the
+    # same arithmetic step by step, so the same bits
+    from pounding.integrators._kernels import _integrate
+    from pounding.warmup import _core_of
+
+    lean = _simulated(name, monkeypatch, True, **options)
+    whole = _simulated(name, monkeypatch, False, **options)
+    assert {_core_of(sig) for sig in _integrate.signatures} == {"gaps", "families"}
+    assert int(lean["impact_count"].sum()) > 0
+    for var in ("displacement", "contact_force", "energy", "peak_contact_force"):
+        assert var in lean and lean[var].equals(whole[var]), var
+    assert lean["impact_start"].size > 0 and lean["impact_start"].equals(whole["impact_start"])
+
+
+@pytest.mark.parametrize(
+    ("name", "core"),
+    [("two_sdof.toml", "gaps"), ("bumper.toml", "gaps"), ("floor_to_column.toml", "gaps"),
+     ("three_vs_eight_yielding.toml", "families"), ("base_isolated_moat.toml", "families")],
+)  # fmt: skip
+def test_compiled_core_is_the_lean_one_for_gaps_alone(name, core):
+    import pounding
+    from pounding.integrators.base import compiled_core
+
+    system = pounding.load_case(EXAMPLES / name).system
+    assert compiled_core(system) == core
+    assert compiled_core(system, lean=False) == "families"
+
+
+def test_is_warm_reads_each_core_from_the_cache_index(monkeypatch):
+    from numba.core import types
+
+    import pounding.warmup as w
+
+    gaps_sig = (types.int64,) * 3 + (types.none,)
+    whole_sig = (types.int64,) * 4
+
+    class Index:
+        def __init__(self, keys):
+            self.keys = keys
+
+        def _load_index(self):
+            return {(sig, "magic", ("a", "b")): "file" for sig in self.keys}
+
+    class Dispatcher:
+        signatures = []
+
+        def __init__(self, keys):
+            self._cache = type("Cache", (), {"_cache_file": Index(keys)})()
+
+    for keys, warm in (([gaps_sig], {"gaps"}), ([whole_sig], {"families"}), ([], set()),
+                       ([gaps_sig, whole_sig], {"gaps", "families"})):  # fmt: skip
+        monkeypatch.setattr(w, "_dispatcher", lambda keys=keys: Dispatcher(keys))
+        assert {core for core in ("gaps", "families") if w.is_warm(core)} == warm
+    assert "about 60 s" in w.notice("gaps") and "about 130 s" in w.notice("families")

@@ -71,7 +71,7 @@ def test_empty_numba_cache_dir_is_cold(tmp_path):
     # an empty NUMBA_CACHE_DIR holds no kernel: the notice must show (numba is imported, nothing compiled)
     code = (
         "import pounding.warmup as w\n"
-        "assert not w.is_warm(), 'empty cache reported warm'\n"
+        "assert not w.is_warm('gaps') and not w.is_warm('families'), 'empty cache reported warm'\n"
         f"assert str(w.cache_dir()).startswith({str(tmp_path)!r}), w.cache_dir()\n"
         "assert 'compiling numerical kernels, one time' in w.notice()"
     )
@@ -80,12 +80,12 @@ def test_empty_numba_cache_dir_is_cold(tmp_path):
 
 def test_run_on_cold_cache_prints_the_notice_first(tmp_path, monkeypatch):
     calls = []
-    monkeypatch.setattr(pounding.warmup, "is_warm", lambda: False)
-    monkeypatch.setattr(pounding.warmup, "warm_up", lambda: calls.append("warm_up") or 0.0)
+    monkeypatch.setattr(pounding.warmup, "is_warm", lambda core: False)
+    monkeypatch.setattr(pounding.warmup, "warm_up", lambda **kw: calls.append(kw) or 0.0)
     case = ROOT / "examples" / "two_sdof.toml"
     res = CliRunner().invoke(app, ["run", str(case)])
     assert res.exit_code == 0, res.output
-    assert calls == ["warm_up"]
+    assert calls == [{"cores": ("gaps",)}]  # gaps alone: the core without the families
     first = res.output.splitlines()[0]
     assert first.startswith("compiling numerical kernels, one time, about ")
     assert "cache in " in first
@@ -107,7 +107,7 @@ def test_kernels_read_from_the_cache_skip_numba_compiler_registries():
 
 
 def test_warmup_verb_reports_time_and_cache(monkeypatch):
-    monkeypatch.setattr(pounding.warmup, "is_warm", lambda: True)
+    monkeypatch.setattr(pounding.warmup, "is_warm", lambda core: True)
     calls = []
     monkeypatch.setattr(pounding.warmup, "warm_up", lambda **kw: calls.append(kw) or 0.25)
     res = CliRunner().invoke(app, ["warmup"])

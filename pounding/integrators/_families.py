@@ -125,6 +125,8 @@ def eval_friction(u, u1, v1, c1, fr):
 
     A stuck Coulomb slab is a constraint (tangent inf, force a reaction found after the step); a
     sliding one carries μ_d N against its direction. Returns True when a law is nonlinear."""
+    if fr is None:
+        return False
     nonlinear = False
     st = fr.state
     for k in range(fr.dof.size):
@@ -180,6 +182,8 @@ def eval_elements_here(u1, v1, h, el):
     that goes straight on (:func:`pounding.stories.story_straight`) skips its model's kernel, and
     so does a Bouc–Wen story re-evaluated a round-off from its trial
     (:func:`pounding.stories.make_bouc_wen_story_near`)."""
+    if el is None:
+        return False
     for e in range(el.kind.size):
         d, dd = gather(el.dof, el.sign, e, u1, v1)
         done = False
@@ -207,9 +211,11 @@ def eval_elements_here(u1, v1, h, el):
     return el.kind.size > 0
 
 
-@jit_internal
-def add_forces(r, scale, gaps, f_gaps, el, f_el):
-    """r += scale (Bᵀ F) of the gaps' forces ``f_gaps`` and the elements' ``f_el``."""
+@jit_inline
+def add_forces(r, scale, gaps, f_gaps, el, trial):
+    """r += scale (Bᵀ F) of the gaps' forces ``f_gaps`` and the elements' forces (their trial
+    ``f1`` when ``trial``, else the committed ``f0``). Inlined: ``trial`` is a constant at every
+    call, which would compile one specialisation each."""
     for c in range(f_gaps.size):
         fc = f_gaps[c]
         if fc != 0.0:
@@ -217,6 +223,9 @@ def add_forces(r, scale, gaps, f_gaps, el, f_el):
                 i = gaps.dof[c, s]
                 if i >= 0:
                     r[i] += scale * gaps.sign[c, s] * fc
+    if el is None:
+        return
+    f_el = el.f1 if trial else el.f0
     for e in range(f_el.size):
         for s in range(el.dof.shape[1]):
             i = el.dof[e, s]
@@ -229,6 +238,8 @@ def add_friction(r, scale, fr, col, skip_stuck):
     """r += scale f of the friction column ``col`` of the state; stuck slabs skipped when
     ``skip_stuck`` (their row is a constraint). Inlined: its int and bool arguments are constants
     at every call, which would compile one specialisation each."""
+    if fr is None:
+        return
     for k in range(fr.dof.size):
         if not (skip_stuck and fr.state[k, FS_STUCK] != 0.0):
             r[fr.dof[k]] += scale * fr.state[k, col]
@@ -238,13 +249,15 @@ def add_friction(r, scale, fr, col, skip_stuck):
 def row_stiffness(cf, tr, fr, el, kc):
     """Stiffness w (∂F/∂δ + c1 ∂F/∂δ̇) of every Woodbury row: gaps, friction (inf: stuck), elements."""
     n_el = tr.f1.size
-    n_fr = fr.dof.size
+    n_fr = 0 if fr is None else fr.dof.size
     for c in range(n_el):
         kc[c] = cf.w * (tr.kd1[c] + cf.c1 * tr.cd1[c])
-    for k in range(n_fr):
-        kc[n_el + k] = cf.w * fr.state[k, FS_KF]
-    for e in range(el.kind.size):
-        kc[n_el + n_fr + e] = cf.w * (el.kd[e] + cf.c1 * el.cd[e])
+    if fr is not None:
+        for k in range(n_fr):
+            kc[n_el + k] = cf.w * fr.state[k, FS_KF]
+    if el is not None:
+        for e in range(el.kind.size):
+            kc[n_el + n_fr + e] = cf.w * (el.kd[e] + cf.c1 * el.cd[e])
 
 
 @jit_internal
@@ -252,6 +265,8 @@ def in_band(el, bw):
     """True when an element family row lies within the band of K (both dofs at most bw apart,
     or one at the ground): a yielding story, whose tangent is cheaper in the band factor than as
     a Woodbury row."""
+    if el is None:
+        return False
     for e in range(el.kind.size):
         a = el.dof[e, 0]
         b = el.dof[e, 1]
@@ -264,6 +279,8 @@ def in_band(el, bw):
 def band_rows_into(el, first, kc, bw, Jb):
     """Move the stiffness kc of the family rows within the band (rows ``first``…) into the band
     tangent Jb and zero it among the Woodbury rows."""
+    if el is None:
+        return
     for e in range(el.kind.size):
         c = first + e
         k = kc[c]
@@ -303,6 +320,8 @@ def commit_elements(el):
     (failed, written): an element has spent its capacity (:func:`element_failed`); a kernel wrote
     a row (not only straight story increments)."""
     failed = written = False
+    if el is None:
+        return failed, written
     for e in range(el.kind.size):
         el.d0[e] = el.d1[e]
         el.f0[e] = el.f1[e]
@@ -324,6 +343,8 @@ def commit_elements(el):
 def elements_stored(el, kind):
     """Recoverable energy [J] held by the elements of family ``kind`` at their committed state."""
     total = 0.0
+    if el is None:
+        return total
     for e in range(el.kind.size):
         if el.kind[e] != kind:
             continue

@@ -132,13 +132,14 @@ def _prepare(sy, sch, gaps, fr, el, h):
     # family rows that Newton takes into the band
     pattern = np.abs(Mb) + np.abs(Cb) + np.abs(Kb)
     blk = band_blocks(pattern, bw)
-    for e in range(el.kind.size):
-        for s in range(el.dof.shape[1]):
-            for r in range(el.dof.shape[1]):
-                i = el.dof[e, s]
-                j = el.dof[e, r]
-                if i >= 0 and j >= 0 and abs(i - j) <= bw:
-                    pattern[i, j - i + bw] = 1.0
+    if el is not None:
+        for e in range(el.kind.size):
+            for s in range(el.dof.shape[1]):
+                for r in range(el.dof.shape[1]):
+                    i = el.dof[e, s]
+                    j = el.dof[e, r]
+                    if i >= 0 and j >= 0 and abs(i - j) <= bw:
+                        pattern[i, j - i + bw] = 1.0
     # diagonal-major copies for the quadratic forms of the energy ledger
     md = Model(sy.M, sy.C, sy.K, Mi, L_m, D_m, Mb, Cb, Kb, _transpose(Mb), _transpose(Cb),
                _transpose(Kb), bw, dense, sy.iota, sy.below, sy.tilt, sy.tilt_h, sy.ag, sy.ag_dt,
@@ -160,7 +161,7 @@ def _prepare(sy, sch, gaps, fr, el, h):
               np.zeros((n, 2 * bw + 1)), np.zeros((n, bw + 1)), np.zeros(n), np.zeros(n),
               np.zeros(n_x, dtype=np.bool_), np.zeros(n_el, dtype=np.int64))  # fmt: skip
     # the dense inverse where the dense map is used or Coulomb slabs read its columns
-    n_inv = n if dense or fr.dof.size > 0 else 0
+    n_inv = n if dense or (fr is not None and fr.dof.size > 0) else 0
     n_have = 1 + 2 * md.x_dof.shape[1]  # solved, then a row range per dof of a gap
     fac_h = Factor(np.zeros(1), np.zeros((n, bw + 1)), np.zeros(n), np.empty((n_inv, n_inv)),
                    np.zeros((n_el, n)), np.zeros((n_el, n_el)), Q, pg,
@@ -180,9 +181,11 @@ def _prepare(sy, sch, gaps, fr, el, h):
                    np.zeros(n_el, dtype=np.bool_))  # fmt: skip
     # the stories condensed on the base step's tangent: a step in which every story goes straight
     # on is then one product (straight_step)
-    straight = dense and fr.dof.size == 0 and el.kind.size > 0
-    for e in range(el.kind.size):
-        straight = straight and has_straight(el.kind[e], el.law[e])
+    straight = False
+    if el is not None:
+        straight = dense and (fr is None or fr.dof.size == 0) and el.kind.size > 0
+        for e in range(el.kind.size):
+            straight = straight and has_straight(el.kind[e], el.law[e])
     sl = slopes_prepare(fac_h.J_inv, fac_h.Q, fac_h.pg, el, straight)
     return md, fac_h, fac_c, fac_g, tr, wk, ls, sl
 
@@ -193,7 +196,7 @@ def _condensed_any(md, fr, el):
     no element family) in a system large enough for the band form. Newton over all n dofs would
     cost O(n) per iteration and a Woodbury row per closed gap; the condensed step solves the
     closed gaps' columns once per step and iterates on the gap openings."""
-    return fr.dof.size == 0 and el.kind.size == 0 and not md.dense
+    return (fr is None or fr.dof.size == 0) and (el is None or el.kind.size == 0) and not md.dense
 
 
 @jit_inline
@@ -257,20 +260,22 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
     fac_h, fac_c, fac_g, sl = facs
     none_off, open_off = off
     h = opts.h
-    n_fr = fr.dof.size
-    linear = el.kind.size == 0
-    for k in range(n_fr):
-        linear = linear and fr.kind[k] == FRICTION_COULOMB
+    n_fr = 0 if fr is None else fr.dof.size
+    n_fam = 0 if el is None else el.kind.size
+    linear = n_fam == 0
+    if fr is not None:
+        for k in range(n_fr):
+            linear = linear and fr.kind[k] == FRICTION_COULOMB
     # element families without friction: the linear step, their forces settled on its factors
-    settle = el.kind.size > 0 and n_fr == 0
-    condensable = n_fr == 0 and el.kind.size == 0
+    settle = n_fam > 0 and n_fr == 0
+    condensable = n_fr == 0 and n_fam == 0
     g_start = ground_at(md.ag, md.ag_dt, t)
     if not in_contact and hs == h and (linear or settle):
         # open gaps, Coulomb slabs stuck or sliding, element families: the exact linear step
         cf = newmark_coefficients(hs, sch)
         g_eff = cf.w * ground_at(md.ag, md.ag_dt, t + hs) - cf.alpha * g_start
         straight = False
-        if n_fr > 0:
+        if fr is not None and n_fr > 0:
             linear_step_coulomb(md, fac_h, g_eff, cf, x0, fr, tr, wk)
         else:
             straight = settle and straight_step(sl, g_eff, cf, x0, el, tr)
@@ -283,7 +288,7 @@ def _take_step(hs, t, in_contact, h_contact, x0, md, sch, gaps, fr, el, facs, op
             closed = gap_openings(tr.u1, tr.v1, gaps, tr.d1, tr.dd1)
             for c in range(gaps.gap.size):
                 tr.f1[c] = 0.0
-            if closed and not opts.locate_onset and n_fr == 0 and el.kind.size == 0:
+            if closed and not opts.locate_onset and condensable:
                 ok, its = contact_step(fac_h, cf, x0[0], gaps, none_off, opts, tr, wk)
                 return ok, its, hs
             if closed and not opts.locate_onset:
@@ -581,11 +586,11 @@ def _start(md, sch, gaps, fr, el, tr, wk, ls, out):
         a[i] = -md.iota[i] * g
     for c in range(gaps.gap.size):
         gaps.d0[c] = -gaps.gap[c]  # a contact may start closed when a gap is 0
-    for k in range(fr.dof.size):
-        fr.state[k, FS_DIR] = 1.0
-        if fr.kind[k] == FRICTION_COULOMB:
-            fr.state[k, FS_STUCK] = 1.0
-    if fr.dof.size > 0:
+    if fr is not None and fr.dof.size > 0:
+        for k in range(fr.dof.size):
+            fr.state[k, FS_DIR] = 1.0
+            if fr.kind[k] == FRICTION_COULOMB:
+                fr.state[k, FS_STUCK] = 1.0
         tr_0 = Trial(u, ls.v, a, tr.d1, tr.dd1, gaps.f0, tr.kd1, tr.cd1)
         equilibrium(g, md, tr_0, gaps, fr, el, wk.R)
         for k in range(fr.dof.size):
@@ -652,7 +657,7 @@ def _integrate(md, sch, gaps, fr, el, opts, facs, tr, wk, ls, n_steps, out_every
                         continue
                     return t
             g1 = ground_at(md.ag, md.ag_dt, t + hs)
-            if fr.dof.size > 0:
+            if fr is not None and fr.dof.size > 0:
                 ev, th_ev = _first_slab_event(hs, g1, x0, md, gaps, fr, el, tr)
                 if ev >= 0:
                     counters[CNT_FRICTION] += 1

@@ -102,18 +102,20 @@ def account_energy(md, hs, g0, g1, x0, tr, gaps, fr, el, en, wk):
     for c in range(gaps.gap.size):
         work += 0.5 * (gaps.f0[c] + tr.f1[c]) * (tr.d1[c] - gaps.d0[c])
     en[EN_CONTACT] += work
-    for k in range(fr.dof.size):
-        b = fr.dof[k]
-        en[EN_FRICTION] += 0.5 * (fr.state[k, FS_F0] + fr.state[k, FS_F1]) * (tr.u1[b] - u[b])
-    links = stories = 0.0
-    for e in range(el.kind.size):
-        work = 0.5 * (el.f0[e] + el.f1[e]) * (el.d1[e] - el.d0[e])
-        if el.kind[e] == FAMILY_STORY:
-            stories += work
-        else:
-            links += work
-    en[EN_ELEMENTS + FAMILY_LINK] += links
-    en[EN_ELEMENTS + FAMILY_STORY] += stories
+    if fr is not None:
+        for k in range(fr.dof.size):
+            b = fr.dof[k]
+            en[EN_FRICTION] += 0.5 * (fr.state[k, FS_F0] + fr.state[k, FS_F1]) * (tr.u1[b] - u[b])
+    if el is not None:
+        links = stories = 0.0
+        for e in range(el.kind.size):
+            work = 0.5 * (el.f0[e] + el.f1[e]) * (el.d1[e] - el.d0[e])
+            if el.kind[e] == FAMILY_STORY:
+                stories += work
+            else:
+                links += work
+        en[EN_ELEMENTS + FAMILY_LINK] += links
+        en[EN_ELEMENTS + FAMILY_STORY] += stories
 
 
 @jit_internal
@@ -260,9 +262,12 @@ def accept(g1, md, x0, tr, gaps, fr, el, out):
             out.peak_f[c] = tr.f1[c]
         if tr.d1[c] > out.peak_d[c]:
             out.peak_d[c] = tr.d1[c]
-    for k in range(fr.dof.size):
-        fr.state[k, FS_F0] = fr.state[k, FS_F1]
-        fr.state[k, FS_Z0] = fr.state[k, FS_Z1]
+    if fr is not None:
+        for k in range(fr.dof.size):
+            fr.state[k, FS_F0] = fr.state[k, FS_F1]
+            fr.state[k, FS_Z0] = fr.state[k, FS_Z1]
+    if el is None:
+        return False
     for j in range(el.kind.size):
         # column 0 of a family's state is the force it reports (a story: its spring force)
         if abs(el.trial[j, 0]) > out.peak_lf[j]:
@@ -290,11 +295,13 @@ def store(row, t, md, x0, gaps, fr, el, en, out):
         out.d[row, c] = gaps.d0[c]
         out.f[row, c] = gaps.f0[c]
         stored += contact_stored_energy(gaps.law[c], gaps.d0[c], gaps.f0[c], gaps.params[c])
-    for k in range(fr.dof.size):
-        out.ff[row, k] = fr.state[k, FS_F0]
-        out.st[row, k] = fr.state[k, FS_STUCK]
-    for j in range(el.kind.size):
-        out.lf[row, j] = el.state[j, 0]
+    if fr is not None:
+        for k in range(fr.dof.size):
+            out.ff[row, k] = fr.state[k, FS_F0]
+            out.st[row, k] = fr.state[k, FS_STUCK]
+    if el is not None:
+        for j in range(el.kind.size):
+            out.lf[row, j] = el.state[j, 0]
     e = out.e
     e[row, 0] = en[EN_INPUT]
     e[row, 1] = 0.5 * _band_quadratic(md.MbT, md.bw, v)

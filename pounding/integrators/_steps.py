@@ -170,6 +170,8 @@ def settle_elements(bw, J_inv, L, D, cf, h, el, tr, lin, f_prev, tol, max_iter):
     by ≤ ``tol`` of the displacements is the last (its state evaluated and taken); one within the
     round-off of u is not even taken. A pass that does not shrink tenfold means the step is too
     long for this: False."""
+    if el is None:
+        return True
     _, _, rhs, du = lin
     n = tr.u1.size
     w = cf.w
@@ -247,6 +249,8 @@ def straight_step(sl, g_eff, cf, x0, el, tr):
     product, as the elastic step: no passes, exact to round-off. False when it does not apply (a
     story turned inside the step, the map is unavailable or singular): the caller takes the
     linear step and the passes."""
+    if el is None:
+        return False
     n_el = el.kind.size
     if n_el == 0 or sl.Z.shape[0] != n_el:
         return False
@@ -383,12 +387,12 @@ def slopes_prepare(J_inv, Q, pg, el, straight):
     """The stories' condensation on J⁻¹ at kd = 0 and the map of their straight steps (see
     :func:`straight_step`) from the linear system's dense map (Qᵀ, p); empty unless ``straight``
     (every element a story with straight branches) and J⁻¹ is at hand."""
-    n_el = el.kind.size
+    n_el = 0 if el is None else el.kind.size
     m = n_el if straight and J_inv.shape[0] > 0 else 0
     n = J_inv.shape[0] if m > 0 else 0
     Z0 = np.zeros((m, n))
     S0 = np.zeros((m, m))
-    if m > 0:
+    if el is not None and m > 0:
         # the stories' rows condensed as the gaps' are
         condense_map(J_inv, el.dof, el.sign, Z0, S0, np.zeros((m, 3), dtype=np.int64))
     Q0 = Q[: 3 * n, :n].copy()
@@ -724,7 +728,7 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
     u, v, a = x0
     n = u.size
     n_el = gaps.gap.size
-    n_fr = fr.dof.size
+    n_fr = 0 if fr is None else fr.dof.size
     n_x = md.x_dof.shape[0]
     u1 = tr.u1
     cf = newmark_coefficients(hs, sch)
@@ -755,7 +759,7 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
         _mv(md.C, md.Cb, md.bw, md.dense, v, -alpha, old)
         _mv(md.K, md.Kb, md.bw, md.dense, u, -alpha, old)
         # a stuck slab's row is replaced by its constraint
-        add_forces(old, -alpha, gaps, gaps.f0, el, el.f0)
+        add_forces(old, -alpha, gaps, gaps.f0, el, False)
         add_friction(old, -alpha, fr, FS_F0, True)
     u_scale = 1e-3
     for i in range(n):
@@ -767,9 +771,9 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
     for it in range(opts.max_iter + 1):
         end_of_step(cf, u, v, a, u1, tr.v1, tr.a1)
         active = eval_gaps(u1, tr.v1, gaps, off, tr)
-        if n_fr > 0 and eval_friction(u, u1, tr.v1, cf.c1, fr):
+        if fr is not None and n_fr > 0 and eval_friction(u, u1, tr.v1, cf.c1, fr):
             active = True
-        if eval_elements(u1, tr.v1, hs, el):
+        if el is not None and eval_elements(u1, tr.v1, hs, el):
             active = True
         if it > 0 and (small or (not active and not prev_active)):
             return True, it
@@ -783,7 +787,7 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
         _mv(md.M, md.Mb, md.bw, md.dense, tr.a1, 1.0, R)
         _mv(md.C, md.Cb, md.bw, md.dense, tr.v1, w, R)
         _mv(md.K, md.Kb, md.bw, md.dense, u1, w, R)
-        add_forces(R, w, gaps, tr.f1, el, el.f1)
+        add_forces(R, w, gaps, tr.f1, el, True)
         add_friction(R, w, fr, FS_F1, True)
         row_stiffness(cf, tr, fr, el, kc)
         solved = False
@@ -809,13 +813,14 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
             J = wk.J
             tangent_dense(cf, md.M, md.C, md.K, J)
             add_row_tangent(md.x_dof, md.x_sign, kc, J)
-            for k in range(n_fr):
-                if math.isinf(kc[n_el + k]):  # a stuck slab: its row becomes u1_b − u_b = 0
-                    i = fr.dof[k]
-                    for j in range(n):
-                        J[i, j] = 0.0
-                    J[i, i] = 1.0
-                    R[i] = 0.0
+            if fr is not None:
+                for k in range(n_fr):
+                    if math.isinf(kc[n_el + k]):  # a stuck slab: its row becomes u1_b − u_b = 0
+                        i = fr.dof[k]
+                        for j in range(n):
+                            J[i, j] = 0.0
+                        J[i, i] = 1.0
+                        R[i] = 0.0
             _gauss_solve(J, R, step)
             for i in range(n):
                 step[i] = -step[i]
@@ -825,9 +830,10 @@ def newton(hs, t, x0, md, sch, gaps, off, fr, el, fac, opts, tr, wk):
             u1[i] += step[i]
             big = max(big, abs(step[i]))
             u_max = max(u_max, abs(u1[i]))
-        for k in range(n_fr):
-            if fr.state[k, FS_STUCK] != 0.0:
-                u1[fr.dof[k]] = u[fr.dof[k]]  # exactly, not to round-off
+        if fr is not None:
+            for k in range(n_fr):
+                if fr.state[k, FS_STUCK] != 0.0:
+                    u1[fr.dof[k]] = u[fr.dof[k]]  # exactly, not to round-off
         if not math.isfinite(big):
             return False, it
         small = big <= opts.tol * u_max
@@ -843,7 +849,7 @@ def residual(md, g, u, v, a, gaps, f, fr, el, r):
     _band_matvec_add(md.Mb, md.bw, a, 1.0, r)
     _band_matvec_add(md.Cb, md.bw, v, 1.0, r)
     _band_matvec_add(md.Kb, md.bw, u, 1.0, r)
-    add_forces(r, 1.0, gaps, f, el, el.f1)
+    add_forces(r, 1.0, gaps, f, el, True)
     add_friction(r, 1.0, fr, FS_F1, False)
 
 
@@ -858,10 +864,11 @@ def stick_force(b, g1, md, u1, v1, gaps, f1, el):
         for s in range(gaps.dof.shape[1]):
             if gaps.dof[c, s] == b:
                 p -= gaps.sign[c, s] * f1[c]
-    for e in range(el.kind.size):
-        for s in range(el.dof.shape[1]):
-            if el.dof[e, s] == b:
-                p -= el.sign[e, s] * el.f1[e]
+    if el is not None:
+        for e in range(el.kind.size):
+            for s in range(el.dof.shape[1]):
+                if el.dof[e, s] == b:
+                    p -= el.sign[e, s] * el.f1[e]
     return p
 
 
@@ -873,14 +880,17 @@ def equilibrium(g1, md, tr, gaps, fr, el, rhs):
     u1 = tr.u1
     v1 = tr.v1
     n = u1.size
-    st = fr.state
     broke = False
     for i in range(n):
         rhs[i] = -md.Mi[i] * g1
     _band_matvec_add(md.Cb, md.bw, v1, -1.0, rhs)
     _band_matvec_add(md.Kb, md.bw, u1, -1.0, rhs)
-    add_forces(rhs, -1.0, gaps, tr.f1, el, el.f1)
+    add_forces(rhs, -1.0, gaps, tr.f1, el, True)
+    if fr is None:
+        band_solve(md.Lm, md.Dm, md.bw, rhs, tr.a1)
+        return broke
     add_friction(rhs, -1.0, fr, FS_F1, True)
+    st = fr.state
     for k in range(fr.dof.size):
         b = fr.dof[k]
         if fr.kind[k] == FRICTION_COULOMB and st[k, FS_STUCK] != 0.0:

@@ -59,6 +59,7 @@ from pounding.integrators.base import (
     PATH_POINTS,
     ConvergenceError,
     RawResult,
+    compiled_core,
     response_scales,
     v0_floor,
 )
@@ -137,6 +138,11 @@ def get_scheme(scheme: str | Newmark | type[Newmark], **options: float) -> Newma
 def _beta_fn(x: float, y: float) -> float:
     """Euler's beta function B(x, y) = Γ(x) Γ(y) / Γ(x + y) (x, y > 0; no scipy.special import)."""
     return math.exp(math.lgamma(x) + math.lgamma(y) - math.lgamma(x + y))
+
+
+#: False runs every system on the whole core (:func:`pounding.integrators.base.compiled_core`);
+#: the tests compare the two compilations with it.
+LEAN_CORE = True
 
 
 def contact_duration_coefficients(system: PoundingSystem) -> tuple[np.ndarray, np.ndarray]:
@@ -412,8 +418,11 @@ def integrate_newmark(
             collapse_at,
         )  # fmt: skip
         elements = families.fresh()
-        t_reached = kn.newmark_run(sy, kn.Scheme(sch.gamma, sch.beta, sch.alpha), gaps, friction,
-                                   elements, opts, int(n_steps), int(output_every), out)  # fmt: skip
+        # gaps alone: the core compiled without the friction and element-family code
+        lean = compiled_core(system, LEAN_CORE) == "gaps"
+        t_reached = kn.newmark_run(sy, kn.Scheme(sch.gamma, sch.beta, sch.alpha), gaps,
+                                   None if lean else friction, None if lean else elements, opts,
+                                   int(n_steps), int(output_every), out)  # fmt: skip
         imp_el, imp_val, counters = out.imp_el, out.imp_val, out.counters
         status = counters[kn.CNT_STATUS]
         if status == kn.STATUS_IMPACT_LOG_FULL:

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from pounding.case import CaseError, case_from_dict
+from pounding.integrators.base import compiled_core
 from pounding.studies.spec import (
     NO_CONTACT,
     Record,
@@ -60,7 +61,8 @@ class _TaskBuilder:
         self.study = study
         self.buildings = study.case.system.building_names
         self.history_dt = study.history_dt if study.keep_histories else None
-        self.checked: dict[str, tuple[str, ...]] = {}
+        # case text -> (its buildings, the compilation of the core its runs need)
+        self.checked: dict[str, tuple[tuple[str, ...], str]] = {}
 
     def key(self, combo: dict[str, Any], record: Record, scale: float | None, label: str) -> tuple:
         """(run key, case data) of one combination (``law = "none"`` in ``combo`` for a
@@ -92,10 +94,11 @@ class _TaskBuilder:
                     else ""
                 )
                 raise StudyError(f"{exc}{hint}") from None
-            self.checked[text] = case.system.building_names
-        if self.checked[text] != self.buildings:
+            self.checked[text] = (case.system.building_names, compiled_core(case.system))
+        names, core = self.checked[text]
+        if names != self.buildings:
             raise StudyError(
-                f"{study.source} ({label}): the buildings are {', '.join(self.checked[text])}; a "
+                f"{study.source} ({label}): the buildings are {', '.join(names)}; a "
                 f"study keeps the case's buildings {', '.join(self.buildings)}"
             )
         return {
@@ -106,7 +109,22 @@ class _TaskBuilder:
             "motion": None if study.motion_from_case else record.motion,
             "scale": scale,
             "history_dt": self.history_dt,
+            "core": core,
         }
+
+
+def study_cores(study: Study) -> set[str]:
+    """The compilations of the Newmark core (:func:`pounding.integrators.base.compiled_core`) that
+    the variants of ``study`` need, whatever the record (a hunt-and-fill IDA, whose runs are found
+    as it goes)."""
+    builder = _TaskBuilder(study)
+    names = [n for n in study.axes if n != "record"]
+    record = study.axes["record"][0]
+    cores = set()
+    for values in itertools.product(*(study.axes[n] for n in names)):
+        key, data = builder.key(dict(zip(names, values, strict=True)), record, None, "variant")
+        cores.add(builder.task(key, data, record, None, "variant")["core"])
+    return cores
 
 
 def plan_study(study: Study, store: str | Path, *, retry_failed: bool = False) -> StudyPlan:
