@@ -38,7 +38,7 @@ from pounding.contact.laws import get_contact_law
 from pounding.errors import PoundingInputError
 from pounding.ground_motion import GroundMotion
 from pounding.integrators import get_integrator
-from pounding.integrators.base import RawResult
+from pounding.integrators.base import RawResult, compiled_core
 from pounding.integrators.ivp import IVP_METHODS
 from pounding.integrators.newmark import (
     SCHEMES,
@@ -346,12 +346,13 @@ _KICK = 0.05
 
 
 def single_impact_restitution(
-    contact: Contact, mass: float, v0: float, opts: AnalysisOptions
+    contact: Contact, mass: float, v0: float, opts: AnalysisOptions, core: str | None = None
 ) -> float:
     """Rebound/approach speed of one free impact of ``mass`` [kg] at ``v0`` [m/s] against a rigid
     wall through ``contact``'s law, integrated by the analysis's own method and settings: a nearly
     free mass (T = 2000 s) thrown at the wall by a half-sine ground pulse. Through the compiled loop
-    this costs a few milliseconds and no compilation beyond the analysis's own."""
+    this costs a few milliseconds and no compilation beyond the analysis's own (``core``: the
+    compilation of the core the analysis ran on, :func:`pounding.integrators.base.compiled_core`)."""
     k_b = mass * (2.0 * math.pi / 2000.0) ** 2
     building = ShearBuilding("m", [mass], [k_b], damping=ModalDamping((0.0,)))
     wall = dataclasses.replace(
@@ -365,7 +366,7 @@ def single_impact_restitution(
     duration = 2.0 * _KICK + 3.0 * float(coef[0] * v0 ** exp[0])
     ground = GroundMotion(-amplitude * np.sin(np.pi * t / _KICK), _KICK / 20)
     single = dataclasses.replace(opts, duration=duration, dt=None, output_dt=None)
-    raw, _ = run(system, ground, single)
+    raw, _ = run(system, ground, single, core=core)
     imp = raw.impacts
     if imp["v0"].size == 0 or not np.isfinite(imp["v_end"][0]):
         return math.nan
@@ -412,7 +413,7 @@ def restitution_warnings(
         if not law.has_damping or contact.e is None or contact.calibration == "exact":
             continue
         e_eff = single_impact_restitution(
-            contact, float(el.el_mass[elements[i]]), float(v0[i]), opts
+            contact, float(el.el_mass[elements[i]]), float(v0[i]), opts, compiled_core(system)
         )
         if abs(e_eff - contact.e) > E_MISMATCH * contact.e:
             fix = (
@@ -547,9 +548,10 @@ def _physical_memory() -> int:
 
 
 def run(
-    system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions
+    system: PoundingSystem, ground: GroundMotion, opts: AnalysisOptions, *, core: str | None = None
 ) -> tuple[RawResult, dict]:
-    """Integrate with validated options; returns the raw result and the provenance of the step choice."""
+    """Integrate with validated options; returns the raw result and the provenance of the step choice.
+    ``core``: see :func:`pounding.integrators.newmark.integrate_newmark`."""
     ground = ground.starting_from_rest()
     dt, output_dt, every, n_out = step_plan(system, ground, opts)
     if opts.method == "ivp":  # counted by the Newmark rule: the explicit solver slows alike
@@ -584,6 +586,7 @@ def run(
             adaptive=opts.adaptive,
             steps_per_contact=opts.steps_per_contact,
             collapse_drift=opts.collapse_drift,
+            core=core,
         )
     raw.info["collapse_drift"] = float(opts.collapse_drift)
     info.update({k: v for k, v in raw.info.items() if k not in ("dt", "failed_stories")})

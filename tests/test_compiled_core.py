@@ -220,3 +220,37 @@ def test_is_warm_reads_each_core_from_the_cache_index(monkeypatch):
         monkeypatch.setattr(w, "_dispatcher", lambda keys=keys: Dispatcher(keys))
         assert {core for core in ("gaps", "families") if w.is_warm(core)} == warm
     assert "about 60 s" in w.notice("gaps") and "about 130 s" in w.notice("families")
+
+
+def test_a_study_compiles_the_cores_its_runs_need(tmp_path):
+    from pounding.studies import load_study, plan_study
+    from pounding.studies.plan import study_cores
+
+    # the demo study's 3-story building: elastic stories (gaps alone) or Takeda stories
+    demo = load_study(EXAMPLES / "demo_study.toml")
+    plan = plan_study(demo, tmp_path / "demo.runs")
+    assert {task["core"] for task in plan.tasks.values()} == {"gaps", "families"}
+    assert study_cores(demo) == {"gaps", "families"}
+    assert study_cores(load_study(EXAMPLES / "ida_hunt.toml")) == {"families"}
+    assert study_cores(load_study(EXAMPLES / "bumper_study.toml")) == {"gaps"}
+
+
+@pytest.mark.parametrize(
+    ("name", "lean"), [("three_vs_eight_yielding.toml", False), ("two_sdof.toml", True)]
+)
+def test_the_baseline_and_free_impact_check_run_on_the_analysis_s_core(name, lean, monkeypatch):
+    # the check's free impact is a system of gaps alone: on the core of an analysis with yielding
+    # stories it must not compile the other one (an unannounced compile of ~60 s)
+    import pounding
+    from pounding.integrators import _kernels as kn
+
+    seen = []
+    real = kn.newmark_run
+
+    def spy(sy, sch, gaps, fr, el, *rest):
+        seen.append(fr is None and el is None)
+        return real(sy, sch, gaps, fr, el, *rest)
+
+    monkeypatch.setattr(kn, "newmark_run", spy)
+    pounding.simulate(pounding.load_case(EXAMPLES / name), baseline=True)
+    assert len(seen) == 3 and set(seen) == {lean}  # the analysis, its baseline, one free impact

@@ -91,6 +91,17 @@ def test_run_on_cold_cache_prints_the_notice_first(tmp_path, monkeypatch):
     assert "cache in " in first
 
 
+def test_run_of_yielding_stories_compiles_the_core_with_families(monkeypatch):
+    calls = []
+    monkeypatch.setattr(pounding.warmup, "is_warm", lambda core: core == "gaps")
+    monkeypatch.setattr(pounding.warmup, "warm_up", lambda **kw: calls.append(kw) or 0.0)
+    case = ROOT / "examples" / "three_vs_eight_yielding.toml"
+    res = CliRunner().invoke(app, ["run", str(case), "--output-dt", "0.05"])
+    assert res.exit_code == 0, res.output
+    assert calls == [{"cores": ("families",)}]
+    assert res.output.splitlines()[0].startswith("compiling numerical kernels, one time, about 130 s")
+
+
 def test_kernels_read_from_the_cache_skip_numba_compiler_registries():
     # numba refreshes its whole target context (~0.3 s of imports) before reading a cached function;
     # pounding._numba reads the cache with the runtime alone. The first process may compile (a cold

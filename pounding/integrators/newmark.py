@@ -356,6 +356,7 @@ def integrate_newmark(
     steps_per_contact: int = 20,
     impact_capacity: int = 4096,
     collapse_drift: float = math.inf,
+    core: str | None = None,
 ) -> RawResult:
     """Integrate ``system`` under ``ground`` from rest with base step ``dt`` [s] for ``n_steps`` steps.
 
@@ -366,7 +367,9 @@ def integrate_newmark(
     its energy capacity (``info["stopped_at"]``; ``info["failed_stories"]`` the buildings of such
     stories; the output rows after it NaN). Raises :class:`ConvergenceError` when Newton fails even
     after ``max_halvings`` halvings of the step, unless a story is already past ``collapse_drift``
-    or has failed.
+    or has failed. ``core="families"`` runs a system of gaps alone on the whole compiled core
+    (:func:`pounding.integrators.base.compiled_core`): an auxiliary run of an analysis with
+    families then compiles nothing more.
     """
     sch = get_scheme(scheme)
     n_links = len(system.links)
@@ -419,7 +422,7 @@ def integrate_newmark(
         )  # fmt: skip
         elements = families.fresh()
         # gaps alone: the core compiled without the friction and element-family code
-        lean = compiled_core(system, LEAN_CORE) == "gaps"
+        lean = compiled_core(system, LEAN_CORE) == "gaps" and core != "families"
         t_reached = kn.newmark_run(sy, kn.Scheme(sch.gamma, sch.beta, sch.alpha), gaps,
                                    None if lean else friction, None if lean else elements, opts,
                                    int(n_steps), int(output_every), out)  # fmt: skip
