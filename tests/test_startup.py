@@ -99,7 +99,9 @@ def test_run_of_yielding_stories_compiles_the_core_with_families(monkeypatch):
     res = CliRunner().invoke(app, ["run", str(case), "--output-dt", "0.05"])
     assert res.exit_code == 0, res.output
     assert calls == [{"cores": ("families",)}]
-    assert res.output.splitlines()[0].startswith("compiling numerical kernels, one time, about 130 s")
+    assert res.output.splitlines()[0].startswith(
+        "compiling numerical kernels, one time, about 130 s"
+    )
 
 
 def test_kernels_read_from_the_cache_skip_numba_compiler_registries():
