@@ -45,6 +45,7 @@ from pounding.integrators.newmark import (
     contact_duration_coefficients,
     get_scheme,
     integrate_newmark,
+    stiffness_exponent,
 )
 from pounding.structure import ModalDamping, ShearBuilding
 from pounding.system import WALL, Contact, PoundingSystem, assemble
@@ -402,7 +403,7 @@ def restitution_warnings(
         c = elements[i]
         t_c = float(tc_coef[c] * max(float(v0[i]), 1e-3) ** tc_exp[c])
         if not t_c <= span:
-            n = 1.0 if law.is_bilinear else float(el.el_params[c, 1])
+            n = stiffness_exponent(system, c)
             found.append(
                 f"contact {contact.left}-{contact.right}: an impact at {v0[i]:.3g} m/s through "
                 f"{law.name} with k = {el.el_params[c, 0]:.3g} N/m^{n:g} would last {t_c:.3g} s, "

@@ -570,3 +570,30 @@ def test_the_energy_ledgers_band_forms_equal_the_dense_products(bw):
         x, y = rng.uniform(-1.0, 1.0, (2, n))
         assert _band_bilinear(AbT, bw, x, y) == pytest.approx(x @ A @ y, rel=1e-13, abs=1e-13)
         assert _band_quadratic(AbT, bw, x) == pytest.approx(x @ A @ x, rel=1e-13, abs=1e-13)
+
+
+@pytest.mark.parametrize(
+    ("law", "extra", "n"),
+    [("linear", {}, 1.0), ("hertz", {}, 1.5),
+     ("bilinear", {"e": 0.6, "delta_m": 0.005}, 1.0)],  # the loop's elastic slope K1
+)  # fmt: skip
+def test_contact_duration_coefficients_match_the_free_impact_closed_forms(law, extra, n):
+    # undamped F = k δ^n between two masses: t_c = π √(m̄/k) for n = 1 (the bilinear loop: its
+    # elastic slope K1, calibrated from k, e and delta_m); 2.94328 δ_max/v0 for Hertz,
+    # δ_max = (5 m̄ v0²/(4 k))^(2/5) (Goldsmith 1960)
+    from pounding.integrators.newmark import contact_duration_coefficients, stiffness_exponent
+    from pounding.structure import ShearBuilding
+    from pounding.system import Contact, assemble
+
+    a, b = ShearBuilding("A", [2e5], [8e7]), ShearBuilding("B", [3e5], [4e7])
+    system = assemble([a, b], [Contact("A", "B", 0.01, law, k=2e9, **extra)])
+    m = float(system.elements.el_mass[0])
+    assert m == pytest.approx(2e5 * 3e5 / 5e5, rel=1e-12)
+    assert stiffness_exponent(system, 0) == n
+    k = float(system.elements.el_params[0, 0])
+    assert k == 2e9 or law == "bilinear"
+    coef, expo = contact_duration_coefficients(system)
+    for v0 in (0.1, 0.8, 2.0):
+        d_max = ((n + 1.0) * m * v0**2 / (2.0 * k)) ** (1.0 / (n + 1.0))
+        closed = math.pi * math.sqrt(m / k) if n == 1.0 else 2.94328 * d_max / v0
+        assert coef[0] * v0 ** expo[0] == pytest.approx(closed, rel=1e-5)

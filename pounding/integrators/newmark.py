@@ -145,6 +145,13 @@ def _beta_fn(x: float, y: float) -> float:
 LEAN_CORE = True
 
 
+def stiffness_exponent(system: PoundingSystem, c: int) -> float:
+    """The exponent n of gap element c's elastic force k δ^n: its law's ``n``, or 1 for the
+    bilinear loop (its elastic slope K1, in N/m)."""
+    law = LAWS_BY_ID[system.elements.el_law[c]]
+    return 1.0 if law.is_bilinear else float(system.elements.el_params[c, 1])
+
+
 def contact_duration_coefficients(system: PoundingSystem) -> tuple[np.ndarray, np.ndarray]:
     r"""(A, b) per gap element with t_c(v0) = A v0^b, the undamped contact duration [s] at speed v0 [m/s].
 
@@ -158,9 +165,8 @@ def contact_duration_coefficients(system: PoundingSystem) -> tuple[np.ndarray, n
     # a spring soft enough to overflow (k ~ 1e-310) never ends an impact: t_c = inf, no step limit
     with np.errstate(over="ignore", divide="ignore"):
         for c in range(len(el)):
-            law = LAWS_BY_ID[el.el_law[c]]
             k = el.el_params[c, 0]
-            n = 1.0 if law.is_bilinear else el.el_params[c, 1]
+            n = stiffness_exponent(system, c)
             factor = 2.0 * _beta_fn(1.0 / (n + 1.0), 0.5) / (n + 1.0)
             coef[c] = factor * ((n + 1.0) * el.el_mass[c] / (2.0 * k)) ** (1.0 / (n + 1.0))
             expo[c] = 2.0 / (n + 1.0) - 1.0
