@@ -43,7 +43,7 @@ def cache_dir() -> Path | None:
 
 def is_warm(core: str = "gaps") -> bool:
     """True when numba's cache holds the integrator kernel's ``core`` (``"gaps"`` or
-    ``"families"``, :func:`pounding.integrators.newmark.compiled_core`) compiled from the current
+    ``"families"``, :func:`pounding.integrators.base.compiled_core`) compiled from the current
     sources.
 
     Reads the cache index of the compiled loop (numba's own staleness test: the source file's stamp);
@@ -99,9 +99,9 @@ def warm_up(*, every_path: bool = False, cores: tuple[str, ...] = ("gaps", "fami
 
     Returns the wall time [s] it took: tens of seconds per core on a cold cache, a fraction of a
     second on a warm one. ``cores``: the compilations of the core to make, ``"gaps"`` (gaps alone)
-    and ``"families"`` (friction and element families), :func:`pounding.integrators.newmark.
-    compiled_core`; every analysis of the same kind calls them with the same argument types, so
-    one run serves them all. ``every_path`` also compiles the ivp reference path's kernels and the
+    and ``"families"`` (friction and element families;
+    :func:`pounding.integrators.base.compiled_core`); every analysis of the same kind calls them
+    with the same argument types, so one run serves them all. ``every_path`` also compiles the ivp reference path's kernels and the
     oscillator kernels of spectra and separation estimates (``pounding warmup --all``; the wheel
     build)."""
     from pounding.case import case_from_dict
@@ -135,7 +135,7 @@ def ensure_compiled(announce=None, cores: tuple[str, ...] = ("gaps",)) -> float:
     """Warm the cache of each of ``cores`` that is cold, after calling ``announce(notice(core))``;
     returns the seconds spent (0 when already warm). ``pounding run``, ``study`` and ``separation``
     call it before they start with the cores their analyses need
-    (:func:`pounding.integrators.newmark.compiled_core`; a study before its worker processes, so
+    (:func:`pounding.integrators.base.compiled_core`; a study before its worker processes, so
     the workers load the kernels from the cache instead of each compiling them); library users may
     call it themselves before ``run_study(jobs=N)``."""
     cold = tuple(core for core in cores if not is_warm(core))
