@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import sys
 from collections.abc import Iterator
 from typing import Any
 
@@ -55,11 +56,22 @@ def stop_on_signals() -> Iterator[None]:
             if "defer" not in _STOP:  # else raised by the check that follows every stored run
                 raise StudyInterrupted(signum)
 
+    hook = sys.unraisablehook
+
+    def unraisable(info: Any) -> None:
+        # the handler's raise landed in a callback Python cannot propagate from (a weakref callback
+        # of importlib's module locks, a __del__): CPython prints it as "Exception ignored" with a
+        # traceback; the stop is recorded in _STOP and honoured by the checks, so that is noise
+        if not isinstance(info.exc_value, StudyInterrupted):
+            hook(info)
+
     _STOP.pop("signum", None)
     previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    sys.unraisablehook = unraisable
     try:
         yield
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
+        sys.unraisablehook = hook
         _STOP.pop("signum", None)
