@@ -390,6 +390,7 @@ def restitution_warnings(
     if opts.method == "ivp":  # the check's one free impact goes through the compiled loop
         opts = AnalysisOptions()
     elements = np.asarray(variables["impact_contact"][1], dtype=np.int64)
+    core = compiled_core(system)  # the free impacts run on the analysis's own compiled core
     v0 = np.asarray(variables["impact_v0"][1], dtype=float)
     found = []
     for g, contact in enumerate(system.contacts):
@@ -414,7 +415,7 @@ def restitution_warnings(
         if not law.has_damping or contact.e is None or contact.calibration == "exact":
             continue
         e_eff = single_impact_restitution(
-            contact, float(el.el_mass[elements[i]]), float(v0[i]), opts, compiled_core(system)
+            contact, float(el.el_mass[elements[i]]), float(v0[i]), opts, core
         )
         if abs(e_eff - contact.e) > E_MISMATCH * contact.e:
             fix = (
